@@ -1,0 +1,66 @@
+// One small interface for every backend: a ContactProblem in, impulses and a report out.
+// Backends never see the scene. The caller recomputes the residual (residual.hpp) after
+// every solve, whatever the backend claims.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "unjam/problem/contact_problem.hpp"
+
+namespace unjam {
+
+enum class SolveStatus { kConverged, kIterationLimit, kNumericalFailure, kUnsupported };
+const char* ToString(SolveStatus status);
+
+enum class SweepOrder { kRandom, kForward, kSymmetric };
+const char* ToString(SweepOrder order);
+SweepOrder SweepOrderFromString(const std::string& name);  // throws std::invalid_argument
+
+// Options every backend reads; backend-specific ones live beside them, named for it.
+struct SolverOptions {
+  double tolerance = 1e-10;      // on the unjam residual (docs/residual.md)
+  int max_iterations = 100000;   // sweeps (NSGS) or outer iterations
+  // NSGS: over-relaxation factor in (0, 2); 1 = plain Gauss–Seidel.
+  double relaxation = 1.0;
+  SweepOrder sweep_order = SweepOrder::kRandom;
+  std::uint64_t seed = 1;        // random sweep order
+  // NSGS: the true residual is evaluated every `check_interval` sweeps (it costs a sweep).
+  int check_interval = 10;
+};
+// Throws std::invalid_argument naming the option, the value and the rule.
+void Validate(const SolverOptions& options);
+
+struct SolveReport {
+  SolveStatus status = SolveStatus::kNumericalFailure;
+  bool converged() const { return status == SolveStatus::kConverged; }
+  std::string backend;
+  std::string message;
+  int iterations = 0;
+  double residual = 0.0;         // the unjam residual of the returned impulses
+  double seconds = 0.0;
+  std::int64_t contact_updates = 0;  // NSGS: local solves performed
+};
+
+struct SolveResult {
+  Eigen::VectorXd impulses;      // UnknownsPerContact() per contact: (r_n[, r_t])
+  SolveReport report;
+};
+
+class ContactSolver {
+ public:
+  virtual ~ContactSolver() = default;
+  virtual std::string Name() const = 0;
+  virtual SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) = 0;
+};
+
+// The one place where backends are chosen by name. Throws std::invalid_argument for an
+// unknown name, listing the known ones.
+std::unique_ptr<ContactSolver> MakeSolver(const std::string& name);
+std::vector<std::string> AvailableBackends();
+
+}  // namespace unjam

@@ -1,0 +1,36 @@
+#include "unjam/scene/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace unjam {
+
+double MaxRadius(const Scene& scene) {
+  double r = 0.0;
+  for (const Particle& p : scene.particles) r = std::max(r, p.radius);
+  return r;
+}
+
+double PackingFraction(const Scene& scene) {
+  double area = 0.0;
+  for (const Particle& p : scene.particles) area += std::numbers::pi * p.radius * p.radius;
+  return area / (scene.cell.size.x() * scene.cell.size.y());
+}
+
+namespace {
+double WrapCoordinate(double x, double length) {
+  double w = x - length * std::floor(x / length);
+  // floor can round w up to exactly `length` for tiny negative x.
+  return w >= length ? 0.0 : w;
+}
+}  // namespace
+
+void WrapPositions(Scene& scene) {
+  const Periodicity p = scene.cell.periodicity;
+  for (Particle& particle : scene.particles) {
+    if (PeriodicX(p)) particle.position.x() = WrapCoordinate(particle.position.x(), scene.cell.size.x());
+    if (PeriodicY(p)) particle.position.y() = WrapCoordinate(particle.position.y(), scene.cell.size.y());
+  }
+}
+
+}  // namespace unjam
