@@ -1,0 +1,42 @@
+// The static contact forces of a saved state: one contact-dynamics step from rest.
+//
+// Velocities (and the cell strain rate) are set to zero; the external load (gravity,
+// pressure bath) acts for one step Δt; the impulses that keep every closed contact closed
+// are the static forces times Δt. For a static packing the end-of-step velocities vanish
+// and the forces do not depend on Δt. Gaps below `closed_gap_tolerance` count as closed.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "unjam/analysis/equilibrium.hpp"
+#include "unjam/contacts/contact.hpp"
+#include "unjam/scene/scene.hpp"
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+struct StaticSolveOptions {
+  double dt = 1.0;
+  double closed_gap_tolerance = 1e-9;   // length units
+  double margin = 1e-6;                 // contacts detected up to this gap
+  std::string backend = "nsgs";
+  SolverOptions solver;
+};
+
+struct StaticSolution {
+  std::vector<Contact> contacts;
+  std::vector<Eigen::Vector2d> forces;  // (f_n, f_t) per contact
+  SolveReport report;
+  EquilibriumReport equilibrium;
+  double max_speed = 0.0;               // largest end-of-step particle speed (0 if static)
+};
+
+StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options);
+
+// The forces as the scene stores them (only force-carrying contacts).
+std::vector<ContactForce> ToContactForces(const StaticSolution& solution);
+
+}  // namespace unjam

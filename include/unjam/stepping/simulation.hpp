@@ -1,0 +1,71 @@
+// Moreau–Jean contact dynamics: one implicit (end-of-step velocity) step at a time.
+//
+// Stages of a step (names used in the code):
+//   1. DetectContacts   candidate pairs whose gap may close within the step
+//   2. Assemble         scene + contacts → ContactProblem (effects become terms)
+//   3. WarmStart        impulses of the previous step, matched by (i, j, image)
+//   4. Solve            the configured backend
+//   5. Integrate        v⁺ = v_free + M⁻¹ Hᵀ r;  x⁺ = x(1 + Δt λ⁺) + Δt v⁺;  L⁺ = L(1 + Δt λ⁺)
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "unjam/contacts/contact.hpp"
+#include "unjam/problem/assembly.hpp"
+#include "unjam/scene/scene.hpp"
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+struct StepOptions {
+  double dt = 1e-3;
+  double overlap_correction = 1.0;   // see AssemblyOptions
+  // Contacts are detected up to gap < max(margin, 2 Δt · (largest approach speed)).
+  double margin = 1e-6;
+  std::string backend = "nsgs";
+  SolverOptions solver;
+};
+
+struct StepReport {
+  SolveReport solve;
+  int contacts = 0;                 // contacts in the problem
+  int active_contacts = 0;          // with a non-zero normal impulse
+  double max_overlap = 0.0;         // largest −gap among contacts at the end of the step
+  double kinetic_energy = 0.0;      // of the free particles, end of step
+};
+
+class Simulation {
+ public:
+  // Throws std::invalid_argument for an unknown backend or invalid options.
+  Simulation(Scene scene, StepOptions options);
+
+  StepReport Step();
+
+  const Scene& scene() const { return scene_; }
+  Scene& mutable_scene() { return scene_; }
+  const StepOptions& options() const { return options_; }
+  // Contacts of the last step (start-of-step geometry) and their impulses (n, t).
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  const std::vector<Eigen::Vector2d>& impulses() const { return impulses_; }
+
+ private:
+  double DetectionMargin() const;
+  Eigen::VectorXd WarmStart(const AssembledProblem& assembled,
+                            const std::vector<Contact>& contacts) const;
+  void Integrate(const AssembledProblem& assembled, const Eigen::VectorXd& impulses);
+
+  Scene scene_;
+  StepOptions options_;
+  std::unique_ptr<ContactSolver> solver_;
+  std::vector<Contact> contacts_;
+  std::vector<Eigen::Vector2d> impulses_;
+};
+
+// Largest overlap (−gap, ≥ 0) over all pairs of the scene, found with the broad phase.
+double MaxOverlap(const Scene& scene);
+
+}  // namespace unjam

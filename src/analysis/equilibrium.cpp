@@ -1,0 +1,92 @@
+#include "unjam/analysis/equilibrium.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace unjam {
+
+namespace {
+constexpr double kDimension = 2.0;
+
+std::vector<char> Constrained(const Scene& scene) {
+  std::vector<char> constrained(scene.particles.size(), 0);
+  for (std::size_t i = 0; i < scene.particles.size(); ++i) constrained[i] = scene.particles[i].fixed;
+  for (const PrescribedMotion& m : scene.effects.prescribed_motion) constrained[m.particle] = 1;
+  return constrained;
+}
+}  // namespace
+
+EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact>& contacts,
+                                   const std::vector<Eigen::Vector2d>& forces) {
+  EquilibriumReport out;
+  const int n = static_cast<int>(scene.particles.size());
+  std::vector<Vec2> net(n, Vec2::Zero());
+  std::vector<double> torque(n, 0.0);
+  double sum_fn = 0.0;
+  double virial = 0.0;
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& c = contacts[k];
+    const Vec2 f = forces[k][0] * c.normal + forces[k][1] * Perp(c.normal);
+    if (forces[k][0] > 0.0) {
+      sum_fn += forces[k][0];
+      ++out.force_carrying_contacts;
+    }
+    net[c.i] -= f;
+    torque[c.i] += Cross(c.branch_i, -f);
+    if (!c.WithWall()) {
+      net[c.j] += f;
+      torque[c.j] += Cross(c.branch_j, f);
+      virial += f.dot(c.center_to_center);
+    }
+  }
+  out.mean_contact_force = out.force_carrying_contacts > 0 ? sum_fn / out.force_carrying_contacts : 0.0;
+  const std::vector<char> constrained = Constrained(scene);
+  double mean_radius = 0.0;
+  for (const Particle& p : scene.particles) mean_radius += p.radius / n;
+  const double scale = out.mean_contact_force > 0.0 ? out.mean_contact_force : 1.0;
+  for (int i = 0; i < n; ++i) {
+    if (constrained[i]) continue;
+    Vec2 total = net[i];
+    if (scene.effects.gravity) total += scene.particles[i].Mass() * *scene.effects.gravity;
+    const double fi = total.norm() / scale;
+    const double ti = std::abs(torque[i]) / (scale * mean_radius);
+    if (std::max(fi, ti) > out.residual) {
+      out.residual = std::max(fi, ti);
+      out.worst_particle = i;
+    }
+    out.max_force_imbalance = std::max(out.max_force_imbalance, fi);
+    out.max_torque_imbalance = std::max(out.max_torque_imbalance, ti);
+  }
+  if (PeriodicX(scene.cell.periodicity)) {
+    out.pressure = virial / (kDimension * scene.cell.size.x() * scene.cell.size.y());
+  }
+  return out;
+}
+
+Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,
+                                 const std::vector<Eigen::Vector2d>& forces) {
+  Coordination out;
+  const int n = static_cast<int>(scene.particles.size());
+  std::vector<int> count(n, 0);
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (!(forces[k][0] > 0.0)) continue;
+    ++out.force_carrying_contacts;
+    ++count[contacts[k].i];
+    if (!contacts[k].WithWall()) ++count[contacts[k].j];
+  }
+  long ends = 0;
+  int carrying = 0;
+  for (int i = 0; i < n; ++i) {
+    if (scene.particles[i].fixed) continue;
+    if (count[i] == 0) {
+      ++out.rattlers;
+    } else {
+      ++carrying;
+      ends += count[i];
+    }
+  }
+  out.z = carrying > 0 ? static_cast<double>(ends) / carrying : 0.0;
+  return out;
+}
+
+}  // namespace unjam

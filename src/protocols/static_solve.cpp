@@ -1,0 +1,57 @@
+#include "unjam/protocols/static_solve.hpp"
+
+#include <algorithm>
+
+#include "unjam/problem/assembly.hpp"
+#include "unjam/problem/kinematics.hpp"
+
+namespace unjam {
+
+namespace {
+Scene AtRest(const Scene& scene) {
+  Scene rest = scene;
+  for (Particle& p : rest.particles) {
+    p.velocity = Vec2::Zero();
+    p.spin = 0.0;
+  }
+  if (rest.effects.pressure_bath) rest.effects.pressure_bath->strain_rate = 0.0;
+  return rest;
+}
+}  // namespace
+
+StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options) {
+  const Scene rest = AtRest(scene);
+  StaticSolution out;
+  out.contacts = DetectContacts(rest, options.margin);
+  EnsurePrescribedContacts(rest, out.contacts);
+  AssemblyOptions assembly;
+  assembly.dt = options.dt;
+  assembly.closed_gap_tolerance = options.closed_gap_tolerance;
+  AssembledProblem assembled = AssembleProblem(rest, out.contacts, assembly);
+  const ContactProblem& p = assembled.problem;
+
+  SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver);
+  out.report = result.report;
+  out.forces.assign(out.contacts.size(), Eigen::Vector2d::Zero());
+  const int stride = p.UnknownsPerContact();
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    out.forces[assembled.source_contact[k]] = Eigen::Vector2d(
+        result.impulses[k * stride], stride == 2 ? result.impulses[k * stride + 1] : 0.0) / options.dt;
+  }
+  const VelocityState v = EndVelocityState(p, result.impulses);
+  for (const Eigen::Vector3d& b : v.body) out.max_speed = std::max(out.max_speed, b.head<2>().norm());
+  out.equilibrium = CheckEquilibrium(rest, out.contacts, out.forces);
+  return out;
+}
+
+std::vector<ContactForce> ToContactForces(const StaticSolution& solution) {
+  std::vector<ContactForce> forces;
+  for (std::size_t k = 0; k < solution.contacts.size(); ++k) {
+    if (solution.forces[k][0] == 0.0 && solution.forces[k][1] == 0.0) continue;
+    const Contact& c = solution.contacts[k];
+    forces.push_back({c.i, c.j, c.image, solution.forces[k][0], solution.forces[k][1]});
+  }
+  return forces;
+}
+
+}  // namespace unjam

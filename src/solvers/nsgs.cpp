@@ -1,0 +1,243 @@
+// Nonlinear Gauss–Seidel on the contact impulses, velocity-based (as in Box2D and the
+// Brendel–Unger–Wolf CD code): the generalised velocity v = v_free + M⁻¹ Hᵀ r is kept up to
+// date, so one contact update reads and writes only its two bodies (and λ).
+//
+// Local problem of contact k with all other impulses frozen: ũ = ũ⁰ + W_kk r_k with W_kk
+// diagonal for disks (the normal impulse exerts no torque and λ couples to the normal
+// only), so the exact 2D Signorini–Coulomb solution is closed-form:
+//   ũ⁰_n ≥ 0                   → r = 0                       (the contact opens)
+//   else r_n = −ũ⁰_n / W_nn,  r_t = −u⁰_t / W_tt             (sticking)
+//        |r_t| > μ r_n         → r_t = −μ r_n sign(u⁰_t)     (sliding)
+// A bilateral (held) contact takes r_n = −ũ⁰_n / W_nn of either sign and r_t = 0.
+// Over-relaxation blends the old and new impulse and projects back onto the cone.
+#include "nsgs.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include "unjam/problem/kinematics.hpp"
+#include "unjam/solvers/residual.hpp"
+
+namespace unjam {
+
+namespace {
+
+// Everything one contact update needs, contiguous. Bodies without degrees of freedom point
+// at a dummy slot whose inverse masses are zero, so the hot loop has no branches on them.
+struct Row {
+  int bi, bj;
+  double nx, ny;
+  double arm_i, arm_j;
+  double cell_arm;
+  double rhs_n;            // ũ_n = n·(v_j − v_i) + c λ + rhs_n
+  double bias_t;
+  double inv_wnn, inv_wtt; // 1 / W_nn, 1 / W_tt
+  double mass_i, mass_j;   // inverse masses
+  double rot_i, rot_j;     // inverse inertia × arm
+  double mu;               // < 0 marks a bilateral contact
+};
+
+struct Body {
+  double vx, vy, w;
+};
+
+// SplitMix64: a tiny, fast, well-mixed generator for the sweep order.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t Next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  std::uint32_t Below(std::uint32_t n) {  // Lemire's multiply-shift, bias < 2⁻³²·n
+    return static_cast<std::uint32_t>(((Next() >> 32) * n) >> 32);
+  }
+};
+
+std::vector<Row> MakeRows(const ContactProblem& p) {
+  const int dummy = p.NumBodies();
+  std::vector<Row> rows(p.NumContacts());
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    const ProblemContact& c = p.contacts[k];
+    Row& r = rows[k];
+    r.bi = c.body_i >= 0 ? c.body_i : dummy;
+    r.bj = c.body_j >= 0 ? c.body_j : dummy;
+    r.nx = c.normal.x();
+    r.ny = c.normal.y();
+    r.arm_i = c.arm_i;
+    r.arm_j = c.arm_j;
+    r.cell_arm = p.cell ? c.cell_arm : 0.0;
+    r.rhs_n = c.bias.x() - c.target_velocity;
+    r.bias_t = c.bias.y();
+    r.mass_i = c.body_i >= 0 ? p.inv_mass[c.body_i] : 0.0;
+    r.mass_j = c.body_j >= 0 ? p.inv_mass[c.body_j] : 0.0;
+    const double ii = c.body_i >= 0 && p.frictional ? p.inv_inertia[c.body_i] : 0.0;
+    const double ij = c.body_j >= 0 && p.frictional ? p.inv_inertia[c.body_j] : 0.0;
+    r.rot_i = ii * c.arm_i;
+    r.rot_j = ij * c.arm_j;
+    const double wnn = r.mass_i + r.mass_j + (p.cell ? r.cell_arm * r.cell_arm * p.cell->inv_mass : 0.0);
+    const double wtt = r.mass_i + r.mass_j + r.rot_i * c.arm_i + r.rot_j * c.arm_j;
+    r.inv_wnn = wnn > 0.0 ? 1.0 / wnn : 0.0;
+    r.inv_wtt = wtt > 0.0 ? 1.0 / wtt : 0.0;
+    r.mu = c.kind == ConstraintKind::kBilateral ? -1.0 : c.mu;
+  }
+  return rows;
+}
+
+// The solver state: impulses, body velocities (with the dummy slot last), and λ.
+struct State {
+  std::vector<double> rn, rt;
+  std::vector<Body> body;
+  double cell_rate = 0.0;
+  double cell_inv_mass = 0.0;
+};
+
+State InitialState(const ContactProblem& p) {
+  State s;
+  const int nc = p.NumContacts();
+  s.rn.assign(nc, 0.0);
+  s.rt.assign(nc, 0.0);
+  if (p.initial_guess.size() == p.NumUnknowns()) {
+    for (int k = 0; k < nc; ++k) {
+      s.rn[k] = p.initial_guess[k * p.UnknownsPerContact()];
+      if (p.frictional) s.rt[k] = p.initial_guess[k * 2 + 1];
+    }
+  }
+  Eigen::VectorXd r(p.NumUnknowns());
+  for (int k = 0; k < nc; ++k) {
+    r[k * p.UnknownsPerContact()] = s.rn[k];
+    if (p.frictional) r[2 * k + 1] = s.rt[k];
+  }
+  const VelocityState v = EndVelocityState(p, r);
+  s.body.resize(p.NumBodies() + 1, Body{0.0, 0.0, 0.0});
+  for (int b = 0; b < p.NumBodies(); ++b) s.body[b] = {v.body[b][0], v.body[b][1], v.body[b][2]};
+  s.cell_rate = v.cell_rate;
+  s.cell_inv_mass = p.cell ? p.cell->inv_mass : 0.0;
+  return s;
+}
+
+// One exact local solve of contact k, with over-relaxation `omega`. Returns |Δr|.
+template <bool kFrictional>
+inline double UpdateContact(const Row& r, int k, double omega, State& s) {
+  Body& bi = s.body[r.bi];
+  Body& bj = s.body[r.bj];
+  const double dvx = bj.vx - bi.vx;
+  const double dvy = bj.vy - bi.vy;
+  const double un = r.nx * dvx + r.ny * dvy + r.cell_arm * s.cell_rate + r.rhs_n;
+  const double rn_old = s.rn[k];
+  const double rt_old = kFrictional ? s.rt[k] : 0.0;
+  const double un0 = un - rn_old / r.inv_wnn;
+  double rn = -un0 * r.inv_wnn;
+  double rt = 0.0;
+  if (r.mu >= 0.0) {  // unilateral: Signorini, then Coulomb
+    if (un0 >= 0.0) rn = 0.0;
+    if (kFrictional && rn > 0.0) {
+      const double ut = -r.ny * dvx + r.nx * dvy - r.arm_i * bi.w - r.arm_j * bj.w + r.bias_t;
+      const double ut0 = ut - rt_old / r.inv_wtt;
+      rt = -ut0 * r.inv_wtt;
+    }
+  }
+  if (omega != 1.0) {
+    rn = (1.0 - omega) * rn_old + omega * rn;
+    rt = (1.0 - omega) * rt_old + omega * rt;
+    if (r.mu >= 0.0) rn = std::max(rn, 0.0);
+  }
+  if (kFrictional) {
+    const double bound = r.mu >= 0.0 ? r.mu * rn : 0.0;
+    rt = std::clamp(rt, -bound, bound);
+  }
+  const double dn = rn - rn_old;
+  const double dt = rt - rt_old;
+  const double px = dn * r.nx - dt * r.ny;
+  const double py = dn * r.ny + dt * r.nx;
+  bi.vx -= r.mass_i * px;
+  bi.vy -= r.mass_i * py;
+  bj.vx += r.mass_j * px;
+  bj.vy += r.mass_j * py;
+  if (kFrictional) {
+    bi.w -= r.rot_i * dt;
+    bj.w -= r.rot_j * dt;
+    s.rt[k] = rt;
+  }
+  s.cell_rate += s.cell_inv_mass * r.cell_arm * dn;
+  s.rn[k] = rn;
+  return std::abs(dn) + std::abs(dt);
+}
+
+template <bool kFrictional>
+void Sweep(const std::vector<Row>& rows, const std::vector<std::uint32_t>& order, double omega,
+           State& s) {
+  for (std::uint32_t k : order) UpdateContact<kFrictional>(rows[k], static_cast<int>(k), omega, s);
+}
+
+void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<std::uint32_t>& order) {
+  const std::uint32_t n = static_cast<std::uint32_t>(order.size());
+  switch (kind) {
+    case SweepOrder::kForward:
+      return;
+    case SweepOrder::kSymmetric:  // forward, backward, forward, …
+      if (sweep > 0) std::reverse(order.begin(), order.end());
+      return;
+    case SweepOrder::kRandom:
+      for (std::uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.Below(i)]);
+      return;
+  }
+}
+
+Eigen::VectorXd Impulses(const ContactProblem& p, const State& s) {
+  Eigen::VectorXd r(p.NumUnknowns());
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    r[k * p.UnknownsPerContact()] = s.rn[k];
+    if (p.frictional) r[2 * k + 1] = s.rt[k];
+  }
+  return r;
+}
+
+}  // namespace
+
+SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(options);
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<Row> rows = MakeRows(p);
+  State state = InitialState(p);
+  std::vector<std::uint32_t> order(p.NumContacts());
+  std::iota(order.begin(), order.end(), 0u);
+  SplitMix64 rng{options.seed};
+
+  SolveResult result;
+  result.report.backend = Name();
+  ResidualBreakdown residual = ComputeResidual(p, Impulses(p, state));
+  int sweep = 0;
+  while (residual.residual > options.tolerance && sweep < options.max_iterations) {
+    const int batch = std::min(options.check_interval, options.max_iterations - sweep);
+    for (int b = 0; b < batch; ++b, ++sweep) {
+      NextOrder(options.sweep_order, sweep, rng, order);
+      if (p.frictional) Sweep<true>(rows, order, options.relaxation, state);
+      else Sweep<false>(rows, order, options.relaxation, state);
+    }
+    result.report.contact_updates += static_cast<std::int64_t>(batch) * p.NumContacts();
+    residual = ComputeResidual(p, Impulses(p, state));
+    if (!std::isfinite(residual.residual)) break;
+  }
+  result.impulses = Impulses(p, state);
+  result.report.iterations = sweep;
+  result.report.residual = residual.residual;
+  if (!std::isfinite(residual.residual)) {
+    result.report.status = SolveStatus::kNumericalFailure;
+    result.report.message = "non-finite impulses (check masses and time step)";
+  } else if (residual.residual <= options.tolerance) {
+    result.report.status = SolveStatus::kConverged;
+  } else {
+    result.report.status = SolveStatus::kIterationLimit;
+    result.report.message = "iteration limit reached before the tolerance";
+  }
+  result.report.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace unjam

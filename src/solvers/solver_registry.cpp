@@ -1,0 +1,61 @@
+// The one place where backends are chosen by name, and the shared option rules.
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "nsgs.hpp"
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+const char* ToString(SolveStatus status) {
+  switch (status) {
+    case SolveStatus::kConverged: return "converged";
+    case SolveStatus::kIterationLimit: return "iteration-limit";
+    case SolveStatus::kNumericalFailure: return "numerical-failure";
+    case SolveStatus::kUnsupported: return "unsupported";
+  }
+  return "unknown";
+}
+
+const char* ToString(SweepOrder order) {
+  switch (order) {
+    case SweepOrder::kRandom: return "random";
+    case SweepOrder::kForward: return "forward";
+    case SweepOrder::kSymmetric: return "symmetric";
+  }
+  return "unknown";
+}
+
+SweepOrder SweepOrderFromString(const std::string& name) {
+  for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric}) {
+    if (name == ToString(o)) return o;
+  }
+  throw std::invalid_argument("unknown sweep order '" + name + "' (random, forward, symmetric)");
+}
+
+namespace {
+[[noreturn]] void Reject(const std::string& field, double value, const std::string& rule) {
+  std::ostringstream os;
+  os << "solver option " << field << " = " << value << ": " << rule;
+  throw std::invalid_argument(os.str());
+}
+}  // namespace
+
+void Validate(const SolverOptions& o) {
+  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) Reject("tolerance", o.tolerance, "must be a positive finite number");
+  if (o.max_iterations < 0) Reject("max_iterations", o.max_iterations, "must be >= 0");
+  if (!(o.relaxation > 0.0 && o.relaxation < 2.0)) Reject("relaxation", o.relaxation, "must lie in (0, 2)");
+  if (o.check_interval < 1) Reject("check_interval", o.check_interval, "must be >= 1");
+}
+
+std::vector<std::string> AvailableBackends() { return {"nsgs"}; }
+
+std::unique_ptr<ContactSolver> MakeSolver(const std::string& name) {
+  if (name == "nsgs") return std::make_unique<NsgsSolver>();
+  std::string known;
+  for (const std::string& b : AvailableBackends()) known += (known.empty() ? "" : ", ") + b;
+  throw std::invalid_argument("unknown backend '" + name + "' (available: " + known + ")");
+}
+
+}  // namespace unjam

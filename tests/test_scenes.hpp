@@ -1,0 +1,46 @@
+// Small analytic scenes shared by the tests.
+#pragma once
+
+#include <cmath>
+
+#include "unjam/scene/scene.hpp"
+
+namespace unjam::testing {
+
+inline Particle Disk(double x, double y, double r, bool fixed = false) {
+  Particle p;
+  p.position = Vec2(x, y);
+  p.radius = r;
+  p.fixed = fixed;
+  return p;
+}
+
+inline Wall Floor(double height = 0.0) { return Wall{Vec2(0.0, height), Vec2(0.0, 1.0)}; }
+
+// k equal disks of radius r stacked on a floor, touching (gap 0).
+inline Scene Stack(int k, double r, double g, double mu) {
+  Scene s;
+  s.cell.size = Vec2(10.0, 2.0 * r * k + 1.0);
+  s.cell.walls.push_back(Floor());
+  s.effects.gravity = Vec2(0.0, -g);
+  s.effects.friction = mu;
+  for (int i = 0; i < k; ++i) s.particles.push_back(Disk(0.0, r + 2.0 * r * i, r));
+  return s;
+}
+
+// A periodic triangular lattice of equal touching disks: nx per row, ny rows (even).
+inline Scene TriangularLattice(int nx, int ny, double r) {
+  Scene s;
+  const double dy = std::sqrt(3.0) * r;
+  s.cell.size = Vec2(2.0 * r * nx, dy * ny);
+  s.cell.periodicity = Periodicity::kXY;
+  for (int row = 0; row < ny; ++row) {
+    for (int col = 0; col < nx; ++col) {
+      const double x = 2.0 * r * col + (row % 2 == 1 ? r : 0.0) + 0.5 * r;
+      s.particles.push_back(Disk(x, dy * (row + 0.5), r));
+    }
+  }
+  return s;
+}
+
+}  // namespace unjam::testing
