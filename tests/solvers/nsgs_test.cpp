@@ -1,0 +1,146 @@
+// Tests for src/solvers/nsgs.cpp, residual.cpp and solver_registry.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_scenes.hpp"
+#include "unjam/problem/assembly.hpp"
+#include "unjam/solvers/contact_solver.hpp"
+#include "unjam/solvers/residual.hpp"
+
+namespace unjam {
+namespace {
+
+// One free disk of mass m on a floor, pushed down with velocity (vt, −vn): the exact
+// local solution is known in closed form.
+ContactProblem OneContact(double vn, double vt, double mu) {
+  ContactProblem p;
+  p.dt = 1e-3;
+  p.frictional = true;
+  p.inv_mass = {2.0};
+  p.inv_inertia = {4.0};
+  p.free_velocity = {Vec2(vt, -vn)};
+  p.free_spin = {0.0};
+  ProblemContact c;
+  c.body_i = 0;
+  c.normal = Vec2(0.0, -1.0);  // from the disk to the floor
+  c.arm_i = 0.5;
+  c.mu = mu;
+  p.contacts = {c};
+  return p;
+}
+
+TEST(Cone, ProjectionOfInsideEdgeAndPolarPoints) {
+  const double mu = 0.5;
+  EXPECT_EQ(ProjectOnCone({1.0, 0.3}, mu), Eigen::Vector2d(1.0, 0.3));
+  EXPECT_EQ(ProjectOnCone({-1.0, 0.1}, mu), Eigen::Vector2d(0.0, 0.0));
+  const Eigen::Vector2d edge = ProjectOnCone({1.0, 2.0}, mu);
+  EXPECT_NEAR(edge[1], mu * edge[0], 1e-15);
+  // The projection residual is orthogonal to the edge.
+  EXPECT_NEAR((Eigen::Vector2d(1.0, 2.0) - edge).dot(Eigen::Vector2d(1.0, mu)), 0.0, 1e-15);
+}
+
+TEST(Residual, ZeroExactlyAtTheClosedFormSolutions) {
+  // Sticking: W_nn = 2, W_tt = 2 + 0.25·4 = 3. Normal (0,−1), tangent (1, 0): the slip
+  // u_t = −v_x, and r_t > 0 pushes the floor along +x, the disk along −x.
+  ContactProblem stick = OneContact(1.0, 0.3, 1.0);
+  EXPECT_LT(ComputeResidual(stick, Eigen::Vector2d(0.5, 0.1)).residual, 1e-15);
+  EXPECT_GT(ComputeResidual(stick, Eigen::Vector2d(0.5, 0.0)).residual, 0.01);
+  // Sliding: the tangential impulse is capped at μ r_n, opposing the slip.
+  ContactProblem slide = OneContact(1.0, 3.0, 0.2);
+  EXPECT_LT(ComputeResidual(slide, Eigen::Vector2d(0.5, 0.1)).residual, 1e-15);
+  EXPECT_GT(ComputeResidual(slide, Eigen::Vector2d(0.5, 0.09)).residual, 0.01);
+  // Separating: no impulse.
+  ContactProblem open = OneContact(-1.0, 0.3, 1.0);
+  EXPECT_EQ(ComputeResidual(open, Eigen::Vector2d(0.0, 0.0)).residual, 0.0);
+  EXPECT_GT(ComputeResidual(open, Eigen::Vector2d(0.1, 0.0)).residual, 0.5);
+}
+
+TEST(Nsgs, SolvesOneContactExactlyInOneSweep) {
+  for (auto [vn, vt, mu, rn, rt] : {std::tuple{1.0, 0.3, 1.0, 0.5, 0.1},
+                                     std::tuple{1.0, 3.0, 0.2, 0.5, 0.1},
+                                     std::tuple{-1.0, 0.3, 1.0, 0.0, 0.0}}) {
+    SolveResult r = MakeSolver("nsgs")->Solve(OneContact(vn, vt, mu), SolverOptions{});
+    EXPECT_TRUE(r.report.converged());
+    EXPECT_NEAR(r.impulses[0], rn, 1e-15);
+    EXPECT_NEAR(r.impulses[1], rt, 1e-15);
+    EXPECT_LE(r.report.iterations, 10);
+  }
+}
+
+ContactProblem StackProblem(int k, double mu) {
+  const Scene s = testing::Stack(k, 0.5, 1.0, mu);
+  AssemblyOptions o;
+  o.dt = 1.0;
+  return AssembleProblem(s, DetectContacts(s, 1e-6), o).problem;
+}
+
+TEST(Nsgs, ReportsTheIterationLimitInsteadOfHidingIt) {
+  SolverOptions o;
+  o.max_iterations = 3;
+  o.check_interval = 1;
+  SolveResult r = MakeSolver("nsgs")->Solve(StackProblem(30, 0.0), o);
+  EXPECT_EQ(r.report.status, SolveStatus::kIterationLimit);
+  EXPECT_EQ(r.report.iterations, 3);
+  EXPECT_GT(r.report.residual, o.tolerance);
+  EXPECT_FALSE(r.report.message.empty());
+}
+
+TEST(Nsgs, EverySweepOrderAndRelaxationReachesTheUniqueForces) {
+  const ContactProblem p = StackProblem(12, 0.0);
+  for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric}) {
+    for (double omega : {1.0, 1.5}) {
+      SolverOptions o;
+      o.sweep_order = order;
+      o.relaxation = omega;
+      o.tolerance = 1e-13;
+      SolveResult r = MakeSolver("nsgs")->Solve(p, o);
+      ASSERT_TRUE(r.report.converged()) << ToString(order) << " " << omega;
+      // Contacts sorted by (i, j): the floor contact of disk 0 comes first (walls have j < 0).
+      const double w = std::numbers::pi * 0.25;
+      EXPECT_NEAR(r.impulses[0], 12 * w, 1e-9) << ToString(order) << " " << omega;
+    }
+  }
+}
+
+TEST(Nsgs, WarmStartFromTheSolutionNeedsNoSweep) {
+  ContactProblem p = StackProblem(10, 0.3);
+  SolverOptions o;
+  o.tolerance = 1e-12;
+  SolveResult cold = MakeSolver("nsgs")->Solve(p, o);
+  ASSERT_TRUE(cold.report.converged());
+  p.initial_guess = cold.impulses;
+  SolveResult warm = MakeSolver("nsgs")->Solve(p, o);
+  EXPECT_TRUE(warm.report.converged());
+  EXPECT_EQ(warm.report.iterations, 0);
+}
+
+TEST(Nsgs, SameSeedSameBits) {
+  const ContactProblem p = StackProblem(15, 0.5);
+  SolverOptions o;
+  o.seed = 42;
+  const SolveResult a = MakeSolver("nsgs")->Solve(p, o);
+  const SolveResult b = MakeSolver("nsgs")->Solve(p, o);
+  EXPECT_EQ(a.impulses, b.impulses);
+}
+
+TEST(Registry, UnknownBackendAndBadOptionsSayWhatIsWrong) {
+  try {
+    MakeSolver("simplex");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("nsgs"), std::string::npos);
+  }
+  SolverOptions o;
+  o.relaxation = 2.5;
+  try {
+    Validate(o);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("relaxation"), std::string::npos);
+  }
+  EXPECT_THROW(SweepOrderFromString("zigzag"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace unjam
