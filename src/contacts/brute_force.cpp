@@ -1,6 +1,7 @@
 // O(N²) contact detection: the reference that the cell list is tested against.
 #include <algorithm>
 
+#include "minimum_image.hpp"
 #include "unjam/contacts/contact.hpp"
 
 namespace unjam {
@@ -13,6 +14,7 @@ std::vector<int> ImageRange(bool periodic) {
 }  // namespace
 
 std::vector<Contact> DetectContactsBruteForce(const Scene& scene, double margin) {
+  contacts_internal::CheckMinimumImage(scene, margin);
   std::vector<Contact> contacts;
   const int n = static_cast<int>(scene.particles.size());
   const auto xs = ImageRange(PeriodicX(scene.cell.periodicity));
