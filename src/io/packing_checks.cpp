@@ -15,8 +15,10 @@ std::string Index(int k) { return std::to_string(k); }
 
 // Periodic images only make sense along periodic axes.
 void CheckImage(const std::array<int, 2>& image, Periodicity periodicity, const std::string& name, int line) {
-  if (image[0] != 0 && !PeriodicX(periodicity)) throw InputError(name, line, "image x must be 0: x is not periodic");
-  if (image[1] != 0 && !PeriodicY(periodicity)) throw InputError(name, line, "image y must be 0: y is not periodic");
+  if (image[0] != 0 && !PeriodicX(periodicity))
+    throw InputError(name, line, "image x must be 0: x is not periodic");
+  if (image[1] != 0 && !PeriodicY(periodicity))
+    throw InputError(name, line, "image y must be 0: y is not periodic");
 }
 
 // Positions along periodic axes must already be wrapped into [0, L): the reader does not
@@ -31,8 +33,9 @@ void CheckPositions(const Scene& scene, const SourceLines& source, const std::st
       if (!periodic || (x[axis] >= 0.0 && x[axis] < size[axis])) continue;
       const char* label = axis == 0 ? "x" : "y";
       throw InputError(name, source.particles[k],
-                       "particle " + Index(static_cast<int>(k)) + ": " + label + " = " + DoubleToString(x[axis]) +
-                           " lies outside the periodic cell [0, " + DoubleToString(size[axis]) + ")");
+                       "particle " + Index(static_cast<int>(k)) + ": " + label + " = " +
+                           DoubleToString(x[axis]) + " lies outside the periodic cell [0, " +
+                           DoubleToString(size[axis]) + ")");
     }
   }
 }
@@ -44,9 +47,14 @@ void CheckPrescribed(const Scene& scene, const SourceLines& source, const std::s
   for (std::size_t k = 0; k < motions.size(); ++k) {
     const int p = motions[k].particle;
     const int line = source.motions[k];
-    if (p >= n) throw InputError(name, line, "prescribed-motion particle " + Index(p) + " out of range (" + Index(n) + " particles)");
+    if (p >= n)
+      throw InputError(
+          name, line,
+          "prescribed-motion particle " + Index(p) + " out of range (" + Index(n) + " particles)");
     if (motion_line[p] != 0) {
-      throw InputError(name, line, "particle " + Index(p) + " already has a prescribed motion (line " + Index(motion_line[p]) + ")");
+      throw InputError(
+          name, line,
+          "particle " + Index(p) + " already has a prescribed motion (line " + Index(motion_line[p]) + ")");
     }
     motion_line[p] = line;
   }
@@ -68,16 +76,21 @@ void CheckForces(const Scene& scene, const SourceLines& source, const std::strin
   for (std::size_t k = 0; k < scene.forces.size(); ++k) {
     const ContactForce& f = scene.forces[k];
     const int line = source.forces[k];
-    if (f.i >= n) throw InputError(name, line, "force particle i = " + Index(f.i) + " out of range (" + Index(n) + " particles)");
+    if (f.i >= n)
+      throw InputError(name, line,
+                       "force particle i = " + Index(f.i) + " out of range (" + Index(n) + " particles)");
     if (IsWallIndex(f.j)) {
       if (JToWallIndex(f.j) >= walls) {
-        throw InputError(name, line, "force wall j = " + Index(f.j) + " (wall " + Index(JToWallIndex(f.j)) +
-                                         ") out of range (" + Index(walls) + " walls)");
+        throw InputError(name, line,
+                         "force wall j = " + Index(f.j) + " (wall " + Index(JToWallIndex(f.j)) +
+                             ") out of range (" + Index(walls) + " walls)");
       }
       if (f.image != std::array<int, 2>{0, 0}) throw InputError(name, line, "a wall force has image 0 0");
       continue;
     }
-    if (f.j >= n) throw InputError(name, line, "force particle j = " + Index(f.j) + " out of range (" + Index(n) + " particles)");
+    if (f.j >= n)
+      throw InputError(name, line,
+                       "force particle j = " + Index(f.j) + " out of range (" + Index(n) + " particles)");
     if (f.i == f.j) throw InputError(name, line, "a force needs two different particles");
     CheckImage(f.image, scene.cell.periodicity, name, line);
   }
@@ -92,12 +105,14 @@ void CheckCellSize(const Scene& scene, double margin, const SourceLines& source,
     if (!periodic || scene.cell.size[axis] >= needed) continue;
     throw InputError(name, source.cell,
                      std::string("periodic cell length ") + (axis == 0 ? "Lx" : "Ly") + " = " +
-                         DoubleToString(scene.cell.size[axis]) + " is too small for the largest disk: at least " +
-                         DoubleToString(needed) + " (4 R_max - 2 overlap tolerance) is needed");
+                         DoubleToString(scene.cell.size[axis]) +
+                         " is too small for the largest disk: at least " + DoubleToString(needed) +
+                         " (4 R_max - 2 overlap tolerance) is needed");
   }
 }
 
-void CheckOverlaps(const Scene& scene, const SourceLines& source, const std::string& name, const ReadOptions& options) {
+void CheckOverlaps(const Scene& scene, const SourceLines& source, const std::string& name,
+                   const ReadOptions& options) {
   const double margin = -options.overlap_tolerance;
   CheckCellSize(scene, margin, source, name);
   std::vector<Contact> contacts;
@@ -118,18 +133,21 @@ void CheckOverlaps(const Scene& scene, const SourceLines& source, const std::str
     }
   }
   if (first == nullptr) return;
-  const std::string amount = " by " + DoubleToString(-first->gap) + " (tolerance " +
-                             DoubleToString(options.overlap_tolerance) + ")";
+  const std::string amount =
+      " by " + DoubleToString(-first->gap) + " (tolerance " + DoubleToString(options.overlap_tolerance) + ")";
   if (first->WithWall()) {
-    throw InputError(name, first_line,
-                     "particle " + Index(first->i) + " overlaps wall " + Index(JToWallIndex(first->j)) + amount);
+    throw InputError(
+        name, first_line,
+        "particle " + Index(first->i) + " overlaps wall " + Index(JToWallIndex(first->j)) + amount);
   }
-  throw InputError(name, first_line, "particles " + Index(first->i) + " and " + Index(first->j) + " overlap" + amount);
+  throw InputError(name, first_line,
+                   "particles " + Index(first->i) + " and " + Index(first->j) + " overlap" + amount);
 }
 
 }  // namespace
 
-void CheckPacking(const Scene& scene, const SourceLines& source, const std::string& name, const ReadOptions& options) {
+void CheckPacking(const Scene& scene, const SourceLines& source, const std::string& name,
+                  const ReadOptions& options) {
   if (scene.effects.pressure_bath && scene.cell.periodicity != Periodicity::kXY) {
     throw InputError(name, source.pressure_bath, "pressure-bath needs a fully periodic cell (periodic xy)");
   }

@@ -3,8 +3,8 @@
 #include "unjam/io/packing_file.hpp"
 
 #include <algorithm>
-#include <climits>
 #include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -14,7 +14,6 @@
 
 #include "packing_checks.hpp"
 #include "text_fields.hpp"
-#include "unjam/contacts/contact.hpp"
 
 namespace unjam {
 
@@ -48,9 +47,19 @@ constexpr std::size_t kMinParticleLineBytes = 18;
 constexpr std::size_t kMinForceLineBytes = 12;
 
 bool IsKey(std::string_view token) {
-  static const std::set<std::string_view> kKeys = {
-      "cell",   "periodic",   "wall",      "gravity", "friction", "pressure-bath", "prescribed-motion",
-      "prescribed-gap", "seed", "provenance", "particles", "forces",  "end"};
+  static const std::set<std::string_view> kKeys = {"cell",
+                                                   "periodic",
+                                                   "wall",
+                                                   "gravity",
+                                                   "friction",
+                                                   "pressure-bath",
+                                                   "prescribed-motion",
+                                                   "prescribed-gap",
+                                                   "seed",
+                                                   "provenance",
+                                                   "particles",
+                                                   "forces",
+                                                   "end"};
   return kKeys.count(token) > 0;
 }
 
@@ -74,7 +83,9 @@ class PackingParser {
   Scene Parse();
 
  private:
-  [[noreturn]] void Fail(int line, const std::string& message) const { throw InputError(name_, line, message); }
+  [[noreturn]] void Fail(int line, const std::string& message) const {
+    throw InputError(name_, line, message);
+  }
   int LastLine() const { return std::max(line_number_, 1); }
   bool NextRecord();
   void ExpectValues(long long count, std::string_view usage) const;
@@ -133,8 +144,8 @@ std::size_t PackingParser::Reservable(long long count, std::size_t min_line_byte
 
 // Moves to line `found` (0-based) of a counted section, which must not be a key line.
 void PackingParser::NextSectionLine(std::string_view section, long long count, long long found) {
-  const std::string expected =
-      "expected " + std::to_string(count) + " " + std::string(section) + " line(s), found " + std::to_string(found);
+  const std::string expected = "expected " + std::to_string(count) + " " + std::string(section) +
+                               " line(s), found " + std::to_string(found);
   if (!NextRecord()) Fail(LastLine(), "truncated: " + expected);
   if (IsKey(fields_[0])) Fail(line_number_, expected + " before " + Quote(fields_[0]));
 }
@@ -162,14 +173,15 @@ Scene PackingParser::Parse() {
 }
 
 void PackingParser::ParseHeader() {
-  const std::string expected = "expected the header '" + std::string(kHeader) + " " + std::to_string(kVersion) + "'";
+  const std::string expected =
+      "expected the header '" + std::string(kHeader) + " " + std::to_string(kVersion) + "'";
   if (!NextRecord()) Fail(LastLine(), "missing header: " + expected + " (empty file)");
   if (fields_[0] != kHeader) Fail(line_number_, "missing header: " + expected + ", got " + Quote(fields_[0]));
   ExpectValues(1, "format version");
   const long long version = ParseInteger(fields_[1], "format version", 0, LLONG_MAX);
   if (version != kVersion) {
-    Fail(line_number_, "unsupported format version " + std::to_string(version) + " (this reader reads version " +
-                           std::to_string(kVersion) + ")");
+    Fail(line_number_, "unsupported format version " + std::to_string(version) +
+                           " (this reader reads version " + std::to_string(kVersion) + ")");
   }
 }
 
@@ -186,7 +198,8 @@ void PackingParser::ParseKeyLine() {
   if (IsSingleKey(key)) {
     const auto [first, inserted] = single_keys_.emplace(key, line_number_);
     if (!inserted) {
-      Fail(line_number_, "duplicate key " + Quote(key) + " (first given on line " + std::to_string(first->second) + ")");
+      Fail(line_number_,
+           "duplicate key " + Quote(key) + " (first given on line " + std::to_string(first->second) + ")");
     }
   }
   if (key == "particles") {
@@ -215,7 +228,9 @@ void PackingParser::ParseSimpleKey(std::string_view key) {
     if (axes != "none" && axes != "x" && axes != "xy") {
       throw FieldError("periodic must be none, x or xy, got " + Quote(axes));
     }
-    scene_.cell.periodicity = axes == "none" ? Periodicity::kNone : axes == "x" ? Periodicity::kX : Periodicity::kXY;
+    scene_.cell.periodicity = axes == "none" ? Periodicity::kNone
+                              : axes == "x"  ? Periodicity::kX
+                                             : Periodicity::kXY;
   } else if (key == "wall") {
     ExpectValues(4, "point x y, inward normal x y");
     Wall wall;
@@ -224,7 +239,8 @@ void PackingParser::ParseSimpleKey(std::string_view key) {
     // The solver relies on a unit normal; silently rescaling would change the file's meaning.
     const double length = std::hypot(wall.normal.x(), wall.normal.y());
     if (!(std::abs(length - 1.0) <= kWallNormalTolerance)) {
-      throw FieldError("wall normal must be a unit vector (within 1e-12), its length is " + DoubleToString(length));
+      throw FieldError("wall normal must be a unit vector (within 1e-12), its length is " +
+                       DoubleToString(length));
     }
     scene_.cell.walls.push_back(wall);
   } else if (key == "gravity") {
@@ -292,7 +308,8 @@ void PackingParser::ParseParticleLine() {
   p.density = Value(7, "density");
   if (!(p.radius > 0.0)) throw FieldError("radius must be positive, got " + DoubleToString(p.radius));
   if (!(p.density > 0.0)) throw FieldError("density must be positive, got " + DoubleToString(p.density));
-  if (fields_[8] != "0" && fields_[8] != "1") throw FieldError("fixed must be 0 or 1, got " + Quote(fields_[8]));
+  if (fields_[8] != "0" && fields_[8] != "1")
+    throw FieldError("fixed must be 0 or 1, got " + Quote(fields_[8]));
   p.fixed = fields_[8] == "1";
   scene_.particles.push_back(p);
   source_.particles.push_back(line_number_);

@@ -93,7 +93,8 @@ std::string FormatPacking(const Scene& scene) {
   out += "# x y angle vx vy spin radius density fixed\n";
   for (const Particle& p : scene.particles) {
     AppendDouble(out, p.position.x());
-    AppendDoubles(out, {p.position.y(), p.angle, p.velocity.x(), p.velocity.y(), p.spin, p.radius, p.density});
+    AppendDoubles(out,
+                  {p.position.y(), p.angle, p.velocity.x(), p.velocity.y(), p.spin, p.radius, p.density});
     out += p.fixed ? " 1\n" : " 0\n";
   }
   if (!scene.forces.empty()) {

@@ -2,7 +2,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <limits>
 #include <system_error>
 
 namespace unjam::io_internal {
@@ -79,8 +78,8 @@ double ParseDouble(std::string_view token, std::string_view what) {
   }
   const std::string_view body = !digits.empty() && digits.front() == '-' ? digits.substr(1) : digits;
   // from_chars accepts "nan", "inf" and "infinity"; a scene never holds them.
-  if (!body.empty() && (body.front() == 'n' || body.front() == 'N' || body.front() == 'i' ||
-                        body.front() == 'I')) {
+  if (!body.empty() &&
+      (body.front() == 'n' || body.front() == 'N' || body.front() == 'i' || body.front() == 'I')) {
     throw FieldError(Message(what, "NaN or infinity is not allowed, got", token));
   }
   double value = 0.0;
@@ -99,7 +98,8 @@ long long ParseInteger(std::string_view token, std::string_view what, long long 
   const char* end = token.data() + token.size();
   const auto [ptr, ec] = std::from_chars(token.data(), end, value);
   if (ec == std::errc() && ptr == end && value >= min && value <= max) return value;
-  std::string problem = "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "], got";
+  std::string problem =
+      "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "], got";
   throw FieldError(Message(what, problem, token));
 }
 

@@ -89,9 +89,7 @@ TEST_F(AtomicWrite, WritePackingThenReadPackingRoundTrips) {
   EXPECT_EQ(Entries(), std::vector<std::string>{"scene.unjam"});
 }
 
-TEST_F(AtomicWrite, ReadingADirectoryIsAnInputError) {
-  EXPECT_THROW(ReadPacking(dir_), InputError);
-}
+TEST_F(AtomicWrite, ReadingADirectoryIsAnInputError) { EXPECT_THROW(ReadPacking(dir_), InputError); }
 
 }  // namespace
 }  // namespace unjam

@@ -5,6 +5,8 @@
 
 #include <bit>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -98,8 +100,14 @@ TEST(PackingFile, RoundTripIsBitForBitOnRandomScenes) {
 }
 
 TEST(PackingFile, RoundTripKeepsAwkwardDoublesExactly) {
-  const double values[] = {0.1 + 0.2, -0.0, 5e-324, 1e-300, 2.2250738585072011e-308,
-                           std::numeric_limits<double>::max(), -1.7976931348623157e308, 1.0 / 3.0};
+  const double values[] = {0.1 + 0.2,
+                           -0.0,
+                           5e-324,
+                           1e-300,
+                           2.2250738585072011e-308,
+                           std::numeric_limits<double>::max(),
+                           -1.7976931348623157e308,
+                           1.0 / 3.0};
   Scene scene;
   scene.cell.size = Vec2(3.0, 3.0);
   scene.particles.resize(1);
@@ -172,6 +180,36 @@ TEST(PackingFile, FixedDisksMayTouchEachOther) {
   EXPECT_NO_THROW(ParsePacking(text, "bed.unjam"));
 }
 
+// The fuzzer's seed corpus doubles as a set of hand-written example files.
+TEST(PackingFile, SeedCorpusFilesAreValid) {
+  const std::filesystem::path dir = std::filesystem::path(UNJAM_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    SCOPED_TRACE(entry.path().string());
+    const Scene scene = ReadPacking(entry.path());
+    EXPECT_EQ(ParsePacking(FormatPacking(scene), "again").particles.size(), scene.particles.size());
+    ++files;
+  }
+  EXPECT_GE(files, 3);
+}
+
+// The example in docs/format.md must stay a valid file.
+TEST(PackingFile, DocumentedExampleIsValid) {
+  std::ifstream in(std::filesystem::path(UNJAM_SOURCE_DIR) / "docs" / "format.md");
+  std::string line;
+  while (std::getline(in, line) && line != "## Example") {
+  }
+  while (std::getline(in, line) && line != "```") {
+  }
+  std::string example;
+  while (std::getline(in, line) && line != "```") example += line + "\n";
+  ASSERT_FALSE(example.empty());
+  const Scene scene = ParsePacking(example, "format.md");
+  EXPECT_EQ(scene.particles.size(), 3u);
+  EXPECT_EQ(scene.forces.size(), 2u);
+  EXPECT_EQ(scene.cell.walls.size(), 1u);
+}
+
 TEST(PackingFile, InputErrorFormatsFileAndLine) {
   const InputError with_line("a.unjam", 7, "bad");
   EXPECT_STREQ(with_line.what(), "a.unjam:7: bad");
@@ -186,7 +224,8 @@ TEST(PackingFile, ReadPackingReportsAMissingFile) {
     FAIL() << "no exception";
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 0);
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/x.unjam: cannot open"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/x.unjam: cannot open"), std::string::npos)
+        << e.what();
   }
 }
 

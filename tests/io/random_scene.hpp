@@ -15,9 +15,19 @@
 namespace unjam::testing {
 
 inline double SpecialDouble(std::mt19937_64& rng) {
-  static const double kSpecial[] = {0.0, -0.0, 5e-324, -5e-324, 2.2250738585072014e-308, 1e-300, -1e-300,
-                                    0.1 + 0.2, 1.0 / 3.0, std::numeric_limits<double>::max(),
-                                    -std::numeric_limits<double>::max(), 123456789.123456789, 1e300};
+  static const double kSpecial[] = {0.0,
+                                    -0.0,
+                                    5e-324,
+                                    -5e-324,
+                                    2.2250738585072014e-308,
+                                    1e-300,
+                                    -1e-300,
+                                    0.1 + 0.2,
+                                    1.0 / 3.0,
+                                    std::numeric_limits<double>::max(),
+                                    -std::numeric_limits<double>::max(),
+                                    123456789.123456789,
+                                    1e300};
   return kSpecial[rng() % std::size(kSpecial)];
 }
 
@@ -43,6 +53,39 @@ inline double AnyRadius(std::mt19937_64& rng) {
   static const double kSpecial[] = {5e-324, 1e-300, 0.1 + 0.2, 0.3, 2.2250738585072014e-308};
   if (rng() % 5 == 0) return kSpecial[rng() % std::size(kSpecial)];
   return std::uniform_real_distribution<double>(1e-9, 0.3)(rng);
+}
+
+// Effects and forces that refer to the particles and walls already in `scene`.
+inline void AddRandomEffectsAndForces(Scene& scene, bool walls, std::mt19937_64& rng) {
+  const int n = static_cast<int>(scene.particles.size());
+  if (rng() % 2) scene.effects.gravity = Vec2(AnyFiniteDouble(rng), AnyFiniteDouble(rng));
+  if (rng() % 2) scene.effects.friction = AnyPositiveDouble(rng);
+  if (scene.cell.periodicity == Periodicity::kXY && rng() % 2) {
+    scene.effects.pressure_bath =
+        PressureBath{AnyFiniteDouble(rng), AnyPositiveDouble(rng), AnyFiniteDouble(rng)};
+  }
+  for (int k = 0; k < n; k += 1 + static_cast<int>(rng() % 4)) {
+    scene.effects.prescribed_motion.push_back(
+        {k, Vec2(AnyFiniteDouble(rng), AnyFiniteDouble(rng)), AnyFiniteDouble(rng)});
+  }
+  const int image_x = PeriodicX(scene.cell.periodicity) ? 1 : 0;
+  const int image_y = PeriodicY(scene.cell.periodicity) ? -1 : 0;
+  for (int k = 0; n >= 2 && k < 3; ++k) {
+    const int i = static_cast<int>(rng() % n);
+    scene.effects.prescribed_gaps.push_back({i, (i + 1) % n, {image_x, image_y}, AnyFiniteDouble(rng)});
+  }
+  const int forces = n >= 2 ? static_cast<int>(rng() % 8) : 0;
+  for (int k = 0; k < forces; ++k) {
+    const int i = static_cast<int>(rng() % n);
+    ContactForce f;
+    f.i = i;
+    const bool wall = walls && rng() % 3 == 0;
+    f.j = wall ? WallIndexToJ(static_cast<int>(rng() % scene.cell.walls.size())) : (i + 1) % n;
+    f.image = wall ? std::array<int, 2>{0, 0} : std::array<int, 2>{image_x, 0};
+    f.normal = AnyFiniteDouble(rng);
+    f.tangential = AnyFiniteDouble(rng);
+    scene.forces.push_back(f);
+  }
 }
 
 inline Scene RandomScene(std::mt19937_64& rng) {
@@ -97,33 +140,7 @@ inline Scene RandomScene(std::mt19937_64& rng) {
       scene.particles.push_back(p);
     }
   }
-  const int n = static_cast<int>(scene.particles.size());
-  if (rng() % 2) scene.effects.gravity = Vec2(AnyFiniteDouble(rng), AnyFiniteDouble(rng));
-  if (rng() % 2) scene.effects.friction = AnyPositiveDouble(rng);
-  if (scene.cell.periodicity == Periodicity::kXY && rng() % 2) {
-    scene.effects.pressure_bath = PressureBath{AnyFiniteDouble(rng), AnyPositiveDouble(rng), AnyFiniteDouble(rng)};
-  }
-  for (int k = 0; k < n; k += 1 + static_cast<int>(rng() % 4)) {
-    scene.effects.prescribed_motion.push_back({k, Vec2(AnyFiniteDouble(rng), AnyFiniteDouble(rng)), AnyFiniteDouble(rng)});
-  }
-  const int image_x = PeriodicX(scene.cell.periodicity) ? 1 : 0;
-  const int image_y = PeriodicY(scene.cell.periodicity) ? -1 : 0;
-  for (int k = 0; n >= 2 && k < 3; ++k) {
-    const int i = static_cast<int>(rng() % n);
-    scene.effects.prescribed_gaps.push_back({i, (i + 1) % n, {image_x, image_y}, AnyFiniteDouble(rng)});
-  }
-  const int forces = n >= 2 ? static_cast<int>(rng() % 8) : 0;
-  for (int k = 0; k < forces; ++k) {
-    const int i = static_cast<int>(rng() % n);
-    ContactForce f;
-    f.i = i;
-    const bool wall = walls && rng() % 3 == 0;
-    f.j = wall ? WallIndexToJ(static_cast<int>(rng() % scene.cell.walls.size())) : (i + 1) % n;
-    f.image = wall ? std::array<int, 2>{0, 0} : std::array<int, 2>{image_x, 0};
-    f.normal = AnyFiniteDouble(rng);
-    f.tangential = AnyFiniteDouble(rng);
-    scene.forces.push_back(f);
-  }
+  AddRandomEffectsAndForces(scene, walls, rng);
   scene.seed = rng();
   const int length = static_cast<int>(rng() % 40);
   for (int k = 0; k < length; ++k) scene.provenance += static_cast<char>(rng() % 256);
