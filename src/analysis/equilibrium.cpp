@@ -57,23 +57,18 @@ EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact
     out.max_force_imbalance = std::max(out.max_force_imbalance, fi);
     out.max_torque_imbalance = std::max(out.max_torque_imbalance, ti);
   }
-  if (PeriodicX(scene.cell.periodicity)) {
+  if (PeriodicY(scene.cell.periodicity)) {
     out.pressure = virial / (kDimension * scene.cell.size.x() * scene.cell.size.y());
   }
   return out;
 }
 
-Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,
-                                 const std::vector<Eigen::Vector2d>& forces) {
+namespace {
+// z and rattlers from the number of force-carrying contacts of each particle.
+Coordination FromCounts(const Scene& scene, const std::vector<int>& count, int carrying_contacts) {
   Coordination out;
+  out.force_carrying_contacts = carrying_contacts;
   const int n = static_cast<int>(scene.particles.size());
-  std::vector<int> count(n, 0);
-  for (std::size_t k = 0; k < contacts.size(); ++k) {
-    if (!(forces[k][0] > 0.0)) continue;
-    ++out.force_carrying_contacts;
-    ++count[contacts[k].i];
-    if (!contacts[k].WithWall()) ++count[contacts[k].j];
-  }
   long ends = 0;
   int carrying = 0;
   for (int i = 0; i < n; ++i) {
@@ -87,6 +82,32 @@ Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>&
   }
   out.z = carrying > 0 ? static_cast<double>(ends) / carrying : 0.0;
   return out;
+}
+}  // namespace
+
+Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,
+                                 const std::vector<Eigen::Vector2d>& forces) {
+  std::vector<int> count(scene.particles.size(), 0);
+  int carrying = 0;
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (!(forces[k][0] > 0.0)) continue;
+    ++carrying;
+    ++count[contacts[k].i];
+    if (!contacts[k].WithWall()) ++count[contacts[k].j];
+  }
+  return FromCounts(scene, count, carrying);
+}
+
+Coordination ComputeCoordination(const Scene& scene, const std::vector<ContactForce>& forces) {
+  std::vector<int> count(scene.particles.size(), 0);
+  int carrying = 0;
+  for (const ContactForce& f : forces) {
+    if (!(f.normal > 0.0)) continue;
+    ++carrying;
+    ++count[f.i];
+    if (!IsWallIndex(f.j)) ++count[f.j];
+  }
+  return FromCounts(scene, count, carrying);
 }
 
 }  // namespace unjam

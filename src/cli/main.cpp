@@ -1,2 +1,83 @@
+// unjam: the command-line front end. Parses options, calls the library, maps errors to
+// exit codes (docs/cli.md). No physics here.
 #include <cstdio>
-int main() { std::puts("unjam: command line under construction"); return 0; }
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.hpp"
+#include "command_pack.hpp"
+#include "unjam/io/packing_file.hpp"
+
+namespace {
+
+std::string JoinArguments(int argc, char** argv) {
+  std::string line = "unjam";
+  for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
+  return line;
+}
+
+int Run(int argc, char** argv) {
+  using namespace unjam::cli;
+  CLI::App app{"unjam: how jammed packings of rigid frictional disks respond to local disturbances.\n"
+               "Without a command, runs the main job on the bundled default packing."};
+  app.require_subcommand(0, 1);
+
+  std::string info_file;
+  bool info_json = false;
+  CLI::App* info = app.add_subcommand("info", "what a saved packing holds");
+  info->add_option("FILE", info_file, "packing file (.unjam)")->required();
+  info->add_flag("--json", info_json, "one JSON object on stdout");
+
+  std::string solve_file, solve_output;
+  bool solve_json = false, solve_list = false;
+  SolverFlags solver;
+  CLI::App* solve = app.add_subcommand("solve", "static contact forces of a saved packing");
+  solve->add_option("FILE", solve_file, "packing file (.unjam)")->required();
+  solver.Register(*solve);
+  solve->add_flag("--json", solve_json, "one JSON object on stdout");
+  solve->add_flag("--forces", solve_list, "list every contact force");
+  solve->add_option("-o,--output", solve_output, "write the packing with the solved forces to this file");
+
+  PackFlags pack_flags;
+  CLI::App* pack = app.add_subcommand("pack", "make a static packing and save it with its forces");
+  pack_flags.Register(*pack);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kUsageError;
+  }
+  try {
+    if (*info) return RunInfo(info_file, info_json);
+    if (*solve) return RunSolve(solve_file, solver, solve_json, solve_list, solve_output);
+    if (*pack) return RunPack(pack_flags, JoinArguments(argc, argv));
+    return RunMainJob();
+  } catch (const unjam::InputError& e) {
+    std::fprintf(stderr, "unjam: error: %s\n", e.what());
+    return kInputError;
+  } catch (const unjam::OutputError& e) {
+    std::fprintf(stderr, "unjam: error: %s\n", e.what());
+    return kInputError;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "unjam: error: %s\n", e.what());
+    return kUsageError;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return Run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "unjam: error: %s\n", e.what());
+    return unjam::cli::kInternalError;
+  }
+}

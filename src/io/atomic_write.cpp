@@ -16,7 +16,7 @@ namespace unjam {
 namespace {
 
 [[noreturn]] void Throw(const std::filesystem::path& path, const std::string& step, int error) {
-  throw std::runtime_error("cannot write '" + path.string() + "': " + step + ": " + std::strerror(error));
+  throw OutputError("cannot write '" + path.string() + "': " + step + ": " + std::strerror(error));
 }
 
 bool WriteAll(int fd, std::string_view content) {

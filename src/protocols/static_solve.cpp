@@ -1,6 +1,7 @@
 #include "unjam/protocols/static_solve.hpp"
 
 #include <algorithm>
+#include <tuple>
 
 #include "unjam/problem/assembly.hpp"
 #include "unjam/problem/kinematics.hpp"
@@ -17,6 +18,29 @@ Scene AtRest(const Scene& scene) {
   if (rest.effects.pressure_bath) rest.effects.pressure_bath->strain_rate = 0.0;
   return rest;
 }
+
+// Impulses Δt·f of the forces stored with the scene, matched to the problem's contacts by
+// (i, j, image): a saved static state starts from its own solution.
+Eigen::VectorXd StoredForcesGuess(const Scene& scene, const std::vector<Contact>& contacts,
+                                  const AssembledProblem& assembled, double dt) {
+  const ContactProblem& p = assembled.problem;
+  Eigen::VectorXd guess = Eigen::VectorXd::Zero(p.NumUnknowns());
+  if (scene.forces.empty()) return guess;
+  std::vector<ContactForce> stored = scene.forces;
+  auto key_less = [](const ContactForce& a, const ContactForce& b) {
+    return std::tie(a.i, a.j, a.image) < std::tie(b.i, b.j, b.image);
+  };
+  std::sort(stored.begin(), stored.end(), key_less);
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    const Contact& c = contacts[assembled.source_contact[k]];
+    const ContactForce probe{c.i, c.j, c.image, 0.0, 0.0};
+    auto it = std::lower_bound(stored.begin(), stored.end(), probe, key_less);
+    if (it == stored.end() || key_less(probe, *it)) continue;
+    guess[k * p.UnknownsPerContact()] = dt * it->normal;
+    if (p.frictional) guess[2 * k + 1] = dt * it->tangential;
+  }
+  return guess;
+}
 }  // namespace
 
 StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options) {
@@ -28,6 +52,7 @@ StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options
   assembly.dt = options.dt;
   assembly.closed_gap_tolerance = options.closed_gap_tolerance;
   AssembledProblem assembled = AssembleProblem(rest, out.contacts, assembly);
+  assembled.problem.initial_guess = StoredForcesGuess(scene, out.contacts, assembled, options.dt);
   const ContactProblem& p = assembled.problem;
 
   SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver);

@@ -12,9 +12,17 @@ double MaxRadius(const Scene& scene) {
 }
 
 double PackingFraction(const Scene& scene) {
+  if (scene.particles.empty()) return 0.0;
   double area = 0.0;
-  for (const Particle& p : scene.particles) area += std::numbers::pi * p.radius * p.radius;
-  return area / (scene.cell.size.x() * scene.cell.size.y());
+  double bottom = scene.particles[0].position.y() - scene.particles[0].radius;
+  double top = scene.particles[0].position.y() + scene.particles[0].radius;
+  for (const Particle& p : scene.particles) {
+    area += std::numbers::pi * p.radius * p.radius;
+    bottom = std::min(bottom, p.position.y() - p.radius);
+    top = std::max(top, p.position.y() + p.radius);
+  }
+  const double height = PeriodicY(scene.cell.periodicity) ? scene.cell.size.y() : top - bottom;
+  return area / (scene.cell.size.x() * height);
 }
 
 namespace {

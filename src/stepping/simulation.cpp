@@ -105,6 +105,18 @@ void Simulation::Integrate(const AssembledProblem& assembled, const Eigen::Vecto
   WrapPositions(scene_);
 }
 
+std::vector<ContactForce> LastStepForces(const Simulation& sim) {
+  std::vector<ContactForce> forces;
+  const double dt = sim.options().dt;
+  for (std::size_t k = 0; k < sim.contacts().size(); ++k) {
+    const Eigen::Vector2d& r = sim.impulses()[k];
+    if (r[0] == 0.0 && r[1] == 0.0) continue;
+    const Contact& c = sim.contacts()[k];
+    forces.push_back({c.i, c.j, c.image, r[0] / dt, r[1] / dt});
+  }
+  return forces;
+}
+
 double MaxOverlap(const Scene& scene) {
   double overlap = 0.0;
   for (const Contact& c : DetectContacts(scene, 0.0)) overlap = std::max(overlap, -c.gap);

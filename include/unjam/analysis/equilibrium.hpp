@@ -16,7 +16,7 @@ struct EquilibriumReport {
   double max_torque_imbalance = 0.0; // max |Σ torque| / (mean f_n · mean radius)
   int worst_particle = -1;
   double residual = 0.0;             // max of the two imbalances
-  double pressure = 0.0;             // virial Σ f·l / (D V) (periodic cells), else 0
+  double pressure = 0.0;             // virial Σ f·l / (D V) (fully periodic cells), else 0
   int force_carrying_contacts = 0;
 };
 
@@ -36,5 +36,7 @@ struct Coordination {
 };
 Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,
                                  const std::vector<Eigen::Vector2d>& forces);
+// The same from forces stored with a scene (ContactForce entries with f_n > 0 count).
+Coordination ComputeCoordination(const Scene& scene, const std::vector<ContactForce>& forces);
 
 }  // namespace unjam

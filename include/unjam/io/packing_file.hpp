@@ -29,6 +29,12 @@ class InputError : public std::runtime_error {
   std::string message_;
 };
 
+// An output file could not be written. what() names the path and the failing step.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 struct ReadOptions {
   // Overlap of two disks (−gap) above which the file is rejected, in length units.
   double overlap_tolerance = 1e-6;
@@ -42,7 +48,7 @@ std::string FormatPacking(const Scene& scene);
 void WritePacking(const Scene& scene, const std::filesystem::path& path);
 
 // Writes `content` to `path` through a temporary file in the same directory and a rename.
-// Throws std::runtime_error naming the path on failure; the temporary is removed.
+// Throws OutputError naming the path on failure; the temporary is removed.
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view content);
 
 }  // namespace unjam

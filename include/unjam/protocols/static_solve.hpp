@@ -4,6 +4,8 @@
 // pressure bath) acts for one step Δt; the impulses that keep every closed contact closed
 // are the static forces times Δt. For a static packing the end-of-step velocities vanish
 // and the forces do not depend on Δt. Gaps below `closed_gap_tolerance` count as closed.
+// Forces stored with the scene are the initial guess (a saved static state starts from its
+// own solution; with hyperstatic, path-dependent forces it stays on it).
 #pragma once
 
 #include <string>

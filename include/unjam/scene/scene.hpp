@@ -118,7 +118,9 @@ inline int WallIndexToJ(int wall) { return -1 - wall; }
 inline int JToWallIndex(int j) { return -1 - j; }
 
 double MaxRadius(const Scene& scene);
-double PackingFraction(const Scene& scene);  // free + fixed disks over the cell area
+// Disk area (free and fixed) over the cell area; when y is not periodic (a pile), over the
+// width times the height spanned by the disks, bottom of the lowest to top of the highest.
+double PackingFraction(const Scene& scene);
 // Wraps positions into the cell along periodic axes.
 void WrapPositions(Scene& scene);
 

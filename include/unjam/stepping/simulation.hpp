@@ -65,6 +65,9 @@ class Simulation {
   std::vector<Eigen::Vector2d> impulses_;
 };
 
+// Forces (impulse / Δt) of the last step's force-carrying contacts.
+std::vector<ContactForce> LastStepForces(const Simulation& simulation);
+
 // Largest overlap (−gap, ≥ 0) over all pairs of the scene, found with the broad phase.
 double MaxOverlap(const Scene& scene);
 

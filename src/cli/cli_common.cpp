@@ -1,0 +1,60 @@
+#include "cli_common.hpp"
+
+#include <filesystem>
+#include <sstream>
+
+namespace unjam::cli {
+
+void SolverFlags::Register(CLI::App& app) {
+  app.add_option("--backend", backend, "contact solver backend")->capture_default_str();
+  app.add_option("--tol", options.tolerance, "tolerance on the unjam residual (docs/residual.md)")->capture_default_str();
+  app.add_option("--max-iter", options.max_iterations, "iteration limit (NSGS: sweeps)")->capture_default_str();
+  app.add_option("--relaxation", options.relaxation, "NSGS over-relaxation factor in (0, 2)")->capture_default_str();
+  app.add_option("--order", order, "NSGS sweep order: random, forward, symmetric")->capture_default_str();
+  app.add_option("--sweep-seed", options.seed, "seed of the random sweep order")->capture_default_str();
+  app.add_flag("--require-converged", require_converged, "exit with code 3 if the solver did not converge");
+}
+
+SolverOptions SolverFlags::Resolve() const {
+  SolverOptions o = options;
+  o.sweep_order = SweepOrderFromString(order);
+  Validate(o);
+  MakeSolver(backend);  // throws for an unknown backend, listing the known ones
+  return o;
+}
+
+std::string DefaultPackingPath() {
+  const std::filesystem::path local = "problems/default.unjam";
+  if (std::filesystem::exists(local)) return local.string();
+  return (std::filesystem::path(UNJAM_SOURCE_DIR) / local).string();
+}
+
+nlohmann::json ToJson(const SolveReport& r) {
+  return {{"backend", r.backend},     {"status", ToString(r.status)}, {"converged", r.converged()},
+          {"iterations", r.iterations}, {"residual", r.residual},      {"seconds", r.seconds},
+          {"message", r.message}};
+}
+
+const char* PeriodicityName(Periodicity p) {
+  switch (p) {
+    case Periodicity::kNone: return "none";
+    case Periodicity::kX: return "x";
+    case Periodicity::kXY: return "xy";
+  }
+  return "?";
+}
+
+std::string EffectsSummary(const Scene& s) {
+  std::ostringstream os;
+  const char* sep = "";
+  if (s.effects.gravity) { os << sep << "gravity (" << s.effects.gravity->x() << ", " << s.effects.gravity->y() << ")"; sep = ", "; }
+  if (s.effects.Frictional()) { os << sep << "friction mu=" << s.effects.friction; sep = ", "; }
+  if (s.effects.pressure_bath) { os << sep << "pressure bath P=" << s.effects.pressure_bath->pressure; sep = ", "; }
+  if (!s.effects.prescribed_motion.empty()) { os << sep << s.effects.prescribed_motion.size() << " prescribed motions"; sep = ", "; }
+  if (!s.effects.prescribed_gaps.empty()) { os << sep << s.effects.prescribed_gaps.size() << " held gaps"; sep = ", "; }
+  if (!s.cell.walls.empty()) { os << sep << s.cell.walls.size() << " walls"; sep = ", "; }
+  const std::string out = os.str();
+  return out.empty() ? "none (frictionless, no load)" : out;
+}
+
+}  // namespace unjam::cli

@@ -1,0 +1,48 @@
+// Shared pieces of the command-line front end: exit codes, solver options, output helpers.
+// The CLI holds no physics: every number it prints comes from the library.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "unjam/protocols/static_solve.hpp"
+#include "unjam/scene/scene.hpp"
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam::cli {
+
+// Exit codes (docs/cli.md).
+enum ExitCode : int {
+  kOk = 0,
+  kInputError = 1,        // a file could not be read or is invalid
+  kUsageError = 2,        // unknown option, bad option value
+  kNotConverged = 3,      // --require-converged and the solver did not converge
+  kInternalError = 4,     // anything else (a bug: please report)
+};
+
+// Solver options as the CLI spells them, shared by every command that solves.
+struct SolverFlags {
+  std::string backend = "nsgs";
+  std::string order = "random";
+  SolverOptions options;
+  bool require_converged = false;
+
+  void Register(CLI::App& app);
+  SolverOptions Resolve() const;   // throws std::invalid_argument on a bad value
+};
+
+// The bundled default packing (problems/default.unjam), found from the working directory
+// or the source tree.
+std::string DefaultPackingPath();
+
+nlohmann::json ToJson(const SolveReport& report);
+std::string EffectsSummary(const Scene& scene);
+const char* PeriodicityName(Periodicity p);
+
+int RunInfo(const std::string& path, bool json);
+int RunSolve(const std::string& path, const SolverFlags& flags, bool json, bool list_forces,
+             const std::string& output);
+
+}  // namespace unjam::cli

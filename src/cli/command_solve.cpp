@@ -1,0 +1,75 @@
+// `unjam solve FILE`: the static contact forces of a saved packing.
+#include <cstdio>
+
+#include "cli_common.hpp"
+#include "unjam/analysis/equilibrium.hpp"
+#include "unjam/io/packing_file.hpp"
+
+namespace unjam::cli {
+
+namespace {
+
+void PrintTable(const Scene& scene, const StaticSolution& s, const Coordination& z) {
+  const SolveReport& r = s.report;
+  std::printf("backend           %s\n", r.backend.c_str());
+  std::printf("particles         %zu\n", scene.particles.size());
+  std::printf("contacts          %zu (%d force-carrying)\n", s.contacts.size(), z.force_carrying_contacts);
+  std::printf("coordination z    %.4f (rattlers: %d)\n", z.z, z.rattlers);
+  std::printf("iterations        %d\n", r.iterations);
+  std::printf("residual          %.3e\n", r.residual);
+  std::printf("converged         %s%s%s\n", r.converged() ? "yes" : "NO", r.message.empty() ? "" : ": ", r.message.c_str());
+  std::printf("equilibrium       %.3e (max net force or torque / mean contact force)\n", s.equilibrium.residual);
+  std::printf("mean contact f_n  %.6g\n", s.equilibrium.mean_contact_force);
+  if (PeriodicY(scene.cell.periodicity)) std::printf("pressure (virial) %.6g\n", s.equilibrium.pressure);
+  std::printf("seconds           %.3f\n", r.seconds);
+}
+
+void PrintForces(const StaticSolution& s) {
+  std::printf("\n%8s %8s %4s %4s %22s %22s\n", "i", "j", "ix", "iy", "f_n", "f_t");
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const Contact& c = s.contacts[k];
+    std::printf("%8d %8d %4d %4d %22.15e %22.15e\n", c.i, c.j, c.image[0], c.image[1], s.forces[k][0], s.forces[k][1]);
+  }
+}
+
+}  // namespace
+
+int RunSolve(const std::string& path, const SolverFlags& flags, bool json, bool list_forces,
+             const std::string& output) {
+  Scene scene = ReadPacking(path);
+  StaticSolveOptions options;
+  options.backend = flags.backend;
+  options.solver = flags.Resolve();
+  const StaticSolution s = SolveStatic(scene, options);
+  const Coordination z = ComputeCoordination(scene, s.contacts, s.forces);
+  if (!output.empty()) {
+    scene.forces = ToContactForces(s);
+    WritePacking(scene, output);
+  }
+  if (json) {
+    nlohmann::json out = ToJson(s.report);
+    out["file"] = path;
+    out["particles"] = scene.particles.size();
+    out["contacts"] = s.contacts.size();
+    out["force_carrying_contacts"] = z.force_carrying_contacts;
+    out["coordination"] = z.z;
+    out["rattlers"] = z.rattlers;
+    out["equilibrium_residual"] = s.equilibrium.residual;
+    out["mean_contact_force"] = s.equilibrium.mean_contact_force;
+    out["max_end_speed"] = s.max_speed;
+    if (PeriodicY(scene.cell.periodicity)) out["pressure"] = s.equilibrium.pressure;
+    if (!output.empty()) out["output"] = output;
+    std::printf("%s\n", out.dump().c_str());
+  } else {
+    PrintTable(scene, s, z);
+    if (list_forces) PrintForces(s);
+  }
+  if (!s.report.converged()) {
+    std::fprintf(stderr, "unjam solve: the solver did not converge (%s, residual %.3e > tolerance %.3e)\n",
+                 ToString(s.report.status), s.report.residual, options.solver.tolerance);
+    if (flags.require_converged) return kNotConverged;
+  }
+  return kOk;
+}
+
+}  // namespace unjam::cli

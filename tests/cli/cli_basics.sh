@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# Command-line behaviour: exit codes, JSON keys, errors naming file and line, no partial
+# output. Usage: cli_basics.sh UNJAM_BINARY SOURCE_DIR
+set -u
+unjam="$1"
+src="$2"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+expect_code() {  # expected-code description command...
+  local want="$1" what="$2"; shift 2
+  "$@" >"$work/out" 2>"$work/err"
+  local got=$?
+  [ "$got" -eq "$want" ] || fail "$what: exit $got, expected $want; stderr: $(head -c 300 "$work/err")"
+}
+
+# A small valid packing: a stack of two disks on a floor.
+cat >"$work/stack.unjam" <<'PACK'
+unjam-packing 1
+cell 10 10
+wall 0 0 0 1
+gravity 0 -1
+friction 0.3
+particles 2
+# x y angle vx vy spin radius density fixed
+5 0.5 0 0 0 0 0.5 1 0
+5 1.5 0 0 0 0 0.5 1 0
+end
+PACK
+
+expect_code 0 "info" "$unjam" info "$work/stack.unjam"
+grep -q "particles *2" "$work/out" || fail "info does not list the particles"
+expect_code 0 "info --json" "$unjam" info --json "$work/stack.unjam"
+/usr/bin/python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["particles"]==2' "$work/out" || fail "info --json"
+
+expect_code 0 "solve --json" "$unjam" solve "$work/stack.unjam" --json --tol 1e-12
+/usr/bin/python3 - "$work/out" <<'PY' || fail "solve --json keys or values"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+for key in ("backend", "particles", "contacts", "iterations", "residual", "converged", "seconds"):
+    assert key in d, key
+assert d["backend"] == "nsgs" and d["particles"] == 2 and d["contacts"] == 2 and d["converged"]
+assert d["residual"] <= 1e-12
+# Mean normal force of the two contacts: (2 w + w) / 2 with w = π r² g.
+assert abs(d["mean_contact_force"] - 1.5 * math.pi * 0.25) < 1e-10, d["mean_contact_force"]
+PY
+
+expect_code 0 "solve -o" "$unjam" solve "$work/stack.unjam" -o "$work/solved.unjam"
+grep -q "^forces 2" "$work/solved.unjam" || fail "solve -o does not store the forces"
+expect_code 0 "info on solved" "$unjam" info "$work/solved.unjam"
+grep -q "coordination" "$work/out" || fail "info on a solved packing shows no coordination"
+
+# Not converged: reported, and an error with --require-converged.
+expect_code 0 "solve with too few iterations" "$unjam" solve "$work/stack.unjam" --max-iter 0
+grep -q "did not converge" "$work/err" || fail "non-convergence not reported"
+expect_code 3 "--require-converged" "$unjam" solve "$work/stack.unjam" --max-iter 0 --require-converged
+
+# Bad options: usage errors (2) naming the option.
+expect_code 2 "unknown option" "$unjam" solve "$work/stack.unjam" --frobnicate
+grep -q "frobnicate" "$work/err" || fail "unknown option not named"
+expect_code 2 "unknown backend" "$unjam" solve "$work/stack.unjam" --backend simplex
+grep -q "simplex" "$work/err" || fail "unknown backend not named"
+expect_code 2 "bad relaxation" "$unjam" solve "$work/stack.unjam" --relaxation 3
+grep -q "relaxation" "$work/err" || fail "bad relaxation not named"
+expect_code 2 "unknown command" "$unjam" frobnicate
+
+# Bad input files: exit 1, the file and the line named, no output file left behind.
+sed 's/^5 1.5 0 0 0 0 0.5 1 0$/5 1.5 0 0 0 0 -0.5 1 0/' "$work/stack.unjam" >"$work/negative.unjam"
+expect_code 1 "negative radius" "$unjam" solve "$work/negative.unjam" -o "$work/never.unjam"
+grep -q "negative.unjam:9" "$work/err" || fail "negative radius: file and line not named: $(cat "$work/err")"
+[ ! -e "$work/never.unjam" ] || fail "an output file was left behind after an input error"
+sed 's/^5 1.5 0 0 0 0 0.5 1 0$/5 nan 0 0 0 0 0.5 1 0/' "$work/stack.unjam" >"$work/nan.unjam"
+expect_code 1 "NaN" "$unjam" info "$work/nan.unjam"
+sed 's/^5 1.5 0 0 0 0 0.5 1 0$/5 1.2 0 0 0 0 0.5 1 0/' "$work/stack.unjam" >"$work/overlap.unjam"
+expect_code 1 "overlap" "$unjam" info "$work/overlap.unjam"
+grep -qi "overlap" "$work/err" || fail "overlap not named"
+head -n 8 "$work/stack.unjam" >"$work/truncated.unjam"
+expect_code 1 "truncated" "$unjam" info "$work/truncated.unjam"
+expect_code 1 "missing file" "$unjam" info "$work/does-not-exist.unjam"
+expect_code 1 "unwritable output" "$unjam" solve "$work/stack.unjam" -o "$work/no/such/dir/out.unjam"
+ls "$work/no" >/dev/null 2>&1 && fail "output directory was created"
+
+echo "cli_basics: $failures failures"
+[ "$failures" -eq 0 ]

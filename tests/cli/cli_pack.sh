@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# `unjam pack --protocol gravity`: a small pile settles, is static, and is reproduced bit
+# for bit from its seed; re-solving the saved pile gives back its forces.
+# Usage: cli_pack.sh UNJAM_BINARY SOURCE_DIR
+set -u
+unjam="$1"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+"$unjam" pack --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/a.unjam" --json --quiet >"$work/a.json" || fail "pack a: exit $?"
+"$unjam" pack --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/b.unjam" --json --quiet >"$work/b.json" || fail "pack b: exit $?"
+cmp -s <(grep -v '^provenance' "$work/a.unjam") <(grep -v '^provenance' "$work/b.unjam") || fail "same seed, different packings"
+/usr/bin/python3 - "$work/a.json" <<'PY' || fail "pack --json"
+import json, sys
+d = json.load(open(sys.argv[1]))
+for key in ("particles", "contacts", "packing_fraction", "coordination", "rattlers", "steps", "seconds"):
+    assert key in d, key
+assert d["settled"] and d["static_solve"]["converged"], d
+assert d["equilibrium_residual"] < 1e-8, d["equilibrium_residual"]
+assert d["max_overlap"] < 1e-6, d["max_overlap"]
+PY
+
+# The saved pile re-solved: static, its own forces, no iteration needed beyond the check.
+"$unjam" solve "$work/a.unjam" --json --tol 1e-10 -o "$work/resolved.unjam" >"$work/solve.json" || fail "solve: exit $?"
+/usr/bin/python3 - "$work/solve.json" "$work/a.unjam" "$work/resolved.unjam" <<'PY' || fail "re-solve changed the forces"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["converged"] and d["equilibrium_residual"] < 1e-8 and d["max_end_speed"] < 1e-9, d
+def forces(path):
+    lines = open(path).read().split("\n")
+    start = next(i for i, l in enumerate(lines) if l.startswith("forces "))
+    out = {}
+    for l in lines[start + 1:]:
+        if l == "end": break
+        if l.startswith("#") or not l.strip(): continue
+        f = l.split()
+        out[tuple(f[:4])] = (float(f[4]), float(f[5]))
+    return out
+a, b = forces(sys.argv[2]), forces(sys.argv[3])
+assert a.keys() == b.keys(), (len(a), len(b))
+scale = sum(v[0] for v in a.values()) / len(a)
+worst = max(max(abs(a[k][0] - b[k][0]), abs(a[k][1] - b[k][1])) for k in a) / scale
+assert worst < 1e-8, worst
+PY
+
+"$unjam" pack --n 0 -o "$work/c.unjam" 2>"$work/err"; code=$?
+[ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"
+[ ! -e "$work/c.unjam" ] || fail "--n 0 left a file"
+
+echo "cli_pack: $failures failures"
+[ "$failures" -eq 0 ]
