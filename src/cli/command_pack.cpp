@@ -7,76 +7,103 @@
 #include "unjam/analysis/equilibrium.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/gravity_pile.hpp"
+#include "unjam/protocols/pressure_packing.hpp"
+#include "unjam/protocols/relax.hpp"
 
 namespace unjam::cli {
 
 void PackFlags::Register(CLI::App& app) {
-  app.add_option("--protocol", protocol, "how to pack: gravity (pile on a rough bed, periodic in x)")
-      ->check(CLI::IsMember({"gravity"}))->capture_default_str();
-  app.add_option("--n", n, "number of free disks")->check(CLI::Range(1, 100000000))->capture_default_str();
+  app.add_option("--protocol", protocol, "pressure: homogeneous, fully periodic cell at constant external pressure; "
+                 "gravity: pile on a rough bed, periodic in x")->check(CLI::IsMember({"pressure", "gravity"}))->required();
+  app.add_option("--n", n, "number of free disks (default 500 pressure, 1600 gravity)")->check(CLI::Range(2, 100000000));
   app.add_option("--mu", mu, "Coulomb friction coefficient")->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--width", width, "cell width (periodic in x)")->capture_default_str();
-  app.add_option("--initial-fraction", initial_fraction, "packing fraction of the initial dilute medium")->capture_default_str();
+  app.add_option("--pressure", pressure, "external pressure P_ext (pressure protocol)")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--cell-mass", cell_mass, "barostat cell mass M_lambda (pressure protocol)")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--width", width, "cell width, periodic in x (gravity protocol)")->capture_default_str();
+  app.add_option("--initial-fraction", initial_fraction, "packing fraction of the dilute start (default 0.3 pressure, 0.35 gravity)");
   app.add_option("--seed", seed, "random seed")->capture_default_str();
-  app.add_option("--dt", dt, "time step")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--step-tol", step_tol, "residual tolerance of each time step's contact solve")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--rest-speed", rest_speed, "static when every speed stays below this × sqrt(g R_max) for 50 steps")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--dt", dt, "time step (default 1e-2 pressure, 5e-3 gravity)")->check(CLI::PositiveNumber);
+  app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--rest-speed", rest_speed, "quench and check when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
   app.add_flag("--json", json, "one JSON object on stdout");
   app.add_flag("--quiet", quiet, "no progress on stderr");
 }
 
-int RunPack(const PackFlags& f, const std::string& command_line) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+Scene InitialScene(const PackFlags& f) {
+  if (f.protocol == "pressure") {
+    GasOptions gas;
+    gas.particles = f.n > 0 ? f.n : 500;
+    gas.friction = f.mu;
+    gas.pressure = f.pressure;
+    gas.cell_mass = f.cell_mass;
+    gas.initial_packing_fraction = f.initial_fraction.value_or(0.3);
+    gas.seed = f.seed;
+    return MakeGranularGas(gas);
+  }
   PileOptions pile;
-  pile.particles = f.n;
+  pile.particles = f.n > 0 ? f.n : 1600;
   pile.width = f.width;
   pile.friction = f.mu;
-  pile.initial_packing_fraction = f.initial_fraction;
+  pile.initial_packing_fraction = f.initial_fraction.value_or(0.35);
   pile.seed = f.seed;
-  Scene scene = MakeLoosePile(pile);
+  return MakeLoosePile(pile);
+}
+
+void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
+  const Scene& s = sim.scene();
+  std::fprintf(stderr, "step %8d  phi %.5f", step, PackingFraction(s));
+  if (s.effects.pressure_bath) {
+    // P_in over P_ext from this step's impulses (virial) — the barostat's own measure.
+    std::vector<Eigen::Vector2d> forces(sim.impulses().size());
+    for (std::size_t k = 0; k < forces.size(); ++k) forces[k] = sim.impulses()[k] / sim.options().dt;
+    const EquilibriumReport e = CheckEquilibrium(s, sim.contacts(), forces);
+    std::fprintf(stderr, "  P_in/P_ext %.5f", e.pressure / s.effects.pressure_bath->pressure);
+  }
+  std::fprintf(stderr, "  kinetic %.3e  contacts %d  sweeps %d\n", r.kinetic_energy, r.contacts, r.solve.iterations);
+}
+
+}  // namespace
+
+int RunPack(const PackFlags& f, const std::string& command_line) {
+  const auto start = std::chrono::steady_clock::now();
+  Scene scene = InitialScene(f);
   scene.provenance = command_line;
+  StepOptions step;
+  step.dt = f.dt.value_or(f.protocol == "pressure" ? 1e-2 : 5e-3);
+  Simulation sim(scene, step);
+  RelaxOptions relax;
+  relax.loose_step_tolerance = f.step_tol;
+  relax.step_max_iterations = f.step_iter;
+  relax.rest_speed = f.rest_speed;
+  relax.max_steps = f.max_steps;
+  relax.progress_interval = f.quiet ? 0 : 1000;
+  relax.progress = PrintProgress;
+  const RelaxReport r = RelaxToStatic(sim, relax);
 
-  SettleOptions settle;
-  settle.step.dt = f.dt;
-  settle.step.solver.tolerance = f.step_tol;
-  settle.step.solver.max_iterations = 5000;
-  settle.max_steps = f.max_steps;
-  settle.speed_threshold = f.rest_speed;
-  settle.progress_interval = f.quiet ? 0 : 1000;
-  settle.progress = [](int step, double kinetic) {
-    std::fprintf(stderr, "step %8d  kinetic energy %.3e\n", step, kinetic);
-  };
-  Simulation sim(scene, settle.step);
-  const SettleReport settled = Settle(sim, settle);
-
-  // The last step's forces start the static solve: the pile's own, path-dependent forces.
   Scene result = sim.scene();
-  result.forces = LastStepForces(sim);
-  StaticSolveOptions solve;
-  solve.solver.tolerance = 1e-10;
-  const StaticSolution s = SolveStatic(result, solve);
+  const StaticSolution& s = r.final_check;
   result.forces = ToContactForces(s);
   WritePacking(result, f.output);
 
   const Coordination z = ComputeCoordination(result, s.contacts, s.forces);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  nlohmann::json out = {{"particles", result.particles.size()}, {"contacts", z.force_carrying_contacts},
-                        {"packing_fraction", PackingFraction(result)}, {"coordination", z.z},
-                        {"rattlers", z.rattlers}, {"steps", settled.steps}, {"settled", settled.settled},
-                        {"unconverged_steps", settled.unconverged_steps},
-                        {"max_overlap", MaxOverlap(result)}, {"static_solve", ToJson(s.report)},
-                        {"equilibrium_residual", s.equilibrium.residual}, {"seconds", seconds},
-                        {"output", f.output}};
-  if (f.json) {
-    std::printf("%s\n", out.dump().c_str());
-  } else {
-    std::printf("%s\n", out.dump(2).c_str());
-  }
-  if (!settled.settled) {
-    std::fprintf(stderr, "unjam pack: not static after %d steps (largest speed %.3e); saved anyway\n",
-                 settled.steps, settled.max_speed);
+  nlohmann::json out = {{"protocol", f.protocol}, {"particles", result.particles.size()},
+                        {"contacts", z.force_carrying_contacts}, {"packing_fraction", PackingFraction(result)},
+                        {"coordination", z.z}, {"rattlers", z.rattlers}, {"steps", r.steps},
+                        {"jammed", r.jammed}, {"static_checks", r.static_checks},
+                        {"unconverged_steps", r.unconverged_steps}, {"max_overlap", MaxOverlap(result)},
+                        {"static_solve", ToJson(s.report)}, {"equilibrium_residual", s.equilibrium.residual},
+                        {"seconds", seconds}, {"output", f.output}};
+  out["pressure"] = result.effects.pressure_bath ? nlohmann::json(s.equilibrium.pressure) : nlohmann::json(nullptr);
+  std::printf("%s\n", f.json ? out.dump().c_str() : out.dump(2).c_str());
+  if (!r.jammed) {
+    std::fprintf(stderr, "unjam pack: not static after %d steps (%d static checks failed); saved anyway\n",
+                 r.steps, r.static_checks);
     return kNotConverged;
   }
   return kOk;

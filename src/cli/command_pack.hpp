@@ -1,4 +1,7 @@
+// `unjam pack`: make a static packing (constant pressure or gravity) and save it.
 #pragma once
+
+#include <optional>
 
 #include <CLI/CLI.hpp>
 
@@ -7,15 +10,18 @@
 namespace unjam::cli {
 
 struct PackFlags {
-  std::string protocol = "gravity";
-  int n = 1600;
+  std::string protocol;
+  int n = 0;                        // 0: the protocol's default
   double mu = 0.5;
+  double pressure = 1.0;
+  double cell_mass = 100.0;
   double width = 100.0;
-  double initial_fraction = 0.35;
+  std::optional<double> initial_fraction;
   std::uint64_t seed = 1;
-  double dt = 5e-3;
-  double step_tol = 1e-8;
-  double rest_speed = 1e-6;
+  std::optional<double> dt;
+  double step_tol = 1e-4;
+  int step_iter = 500;
+  double rest_speed = 1e-4;
   int max_steps = 1000000;
   std::string output;
   bool json = false;

@@ -9,8 +9,8 @@ trap 'rm -rf "$work"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
-"$unjam" pack --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/a.unjam" --json --quiet >"$work/a.json" || fail "pack a: exit $?"
-"$unjam" pack --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/b.unjam" --json --quiet >"$work/b.json" || fail "pack b: exit $?"
+"$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/a.unjam" --json --quiet >"$work/a.json" || fail "pack a: exit $?"
+"$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/b.unjam" --json --quiet >"$work/b.json" || fail "pack b: exit $?"
 cmp -s <(grep -v '^provenance' "$work/a.unjam") <(grep -v '^provenance' "$work/b.unjam") || fail "same seed, different packings"
 /usr/bin/python3 - "$work/a.json" <<'PY' || fail "pack --json"
 import json, sys
@@ -45,7 +45,7 @@ worst = max(max(abs(a[k][0] - b[k][0]), abs(a[k][1] - b[k][1])) for k in a) / sc
 assert worst < 1e-8, worst
 PY
 
-"$unjam" pack --n 0 -o "$work/c.unjam" 2>"$work/err"; code=$?
+"$unjam" pack --protocol gravity --n 0 -o "$work/c.unjam" 2>"$work/err"; code=$?
 [ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"
 [ ! -e "$work/c.unjam" ] || fail "--n 0 left a file"
 

@@ -48,6 +48,8 @@ class Simulation {
   const Scene& scene() const { return scene_; }
   Scene& mutable_scene() { return scene_; }
   const StepOptions& options() const { return options_; }
+  // Solver options may change between steps (tolerance schedules); the backend may not.
+  StepOptions& mutable_options() { return options_; }
   // Contacts of the last step (start-of-step geometry) and their impulses (n, t).
   const std::vector<Contact>& contacts() const { return contacts_; }
   const std::vector<Eigen::Vector2d>& impulses() const { return impulses_; }
