@@ -2,16 +2,20 @@
 //
 //   ./build/bench_nsgs --benchmark_min_time=0.5
 //
-// The problem: the static solve of a dense periodic packing of 56 × 56 = 3136 disks under a
-// pressure bath (a triangular lattice whose radii are shrunk at random by up to 0.1%, so
-// the contact network is disordered and about 9400 contacts are detected). The counter
-// ns_per_update = wall time / (sweeps × contacts); a fixed number of sweeps is timed, with
-// the residual evaluated only at the start and at the end.
+// Problems: (1) the static solve of the bundled jammed packing
+// problems/pressure-n3000-mu0.5.unjam (skipped if absent), with its own μ = 0.5 and with
+// μ = 0; (2) a dense periodic packing of 56 × 56 = 3136 disks under a pressure bath (a
+// triangular lattice whose radii are shrunk at random by up to 0.1%: a disordered contact
+// network of about 9400 contacts). The counter ns_per_update = wall time / (sweeps ×
+// contacts); a fixed number of sweeps is timed, the residual evaluated at the start and end.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <random>
 
+#include <filesystem>
+
+#include "unjam/io/packing_file.hpp"
 #include "unjam/problem/assembly.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 
@@ -41,9 +45,18 @@ ContactProblem DenseProblem(double mu, int side) {
   return AssembleProblem(s, DetectContacts(s, 1e-2), o).problem;
 }
 
-void BM_NsgsSweeps(benchmark::State& state) {
-  const double mu = state.range(0) / 100.0;
-  const ContactProblem p = DenseProblem(mu, 56);
+const char kJammed[] = UNJAM_SOURCE_DIR "/problems/pressure-n3000-mu0.5.unjam";
+
+ContactProblem JammedProblem(double mu) {
+  Scene s = ReadPacking(kJammed);
+  s.effects.friction = mu;
+  AssemblyOptions o;
+  o.dt = 1.0;
+  o.closed_gap_tolerance = 1e-9;
+  return AssembleProblem(s, DetectContacts(s, 1e-6), o).problem;
+}
+
+void TimeSweeps(benchmark::State& state, const ContactProblem& p) {
   SolverOptions o;
   o.tolerance = 1e-300;  // never reached: time a fixed number of sweeps
   o.max_iterations = 100;
@@ -62,7 +75,21 @@ void BM_NsgsSweeps(benchmark::State& state) {
   state.counters["ns_per_update"] = seconds * 1e9 / static_cast<double>(updates);
   state.SetItemsProcessed(updates);
 }
+
+void BM_NsgsSweeps(benchmark::State& state) {
+  TimeSweeps(state, DenseProblem(state.range(0) / 100.0, 56));
+}
+
+void BM_NsgsSweepsJammed3000(benchmark::State& state) {
+  if (!std::filesystem::exists(kJammed)) {
+    state.SkipWithError("problems/pressure-n3000-mu0.5.unjam not found (scripts/make-problems.sh)");
+    return;
+  }
+  TimeSweeps(state, JammedProblem(state.range(0) / 100.0));
+}
+
 // Args: μ × 100, random order (1) or forward (0).
+BENCHMARK(BM_NsgsSweepsJammed3000)->Args({50, 1})->Args({0, 1})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweeps)->Args({0, 1})->Args({50, 1})->Args({0, 0})->Args({50, 0})->Unit(benchmark::kMillisecond);
 
 }  // namespace

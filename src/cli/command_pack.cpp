@@ -67,6 +67,14 @@ void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
   std::fprintf(stderr, "  kinetic %.3e  contacts %d  sweeps %d\n", r.kinetic_energy, r.contacts, r.solve.iterations);
 }
 
+void PrintCheck(const RelaxReport& r) {
+  const StaticSolution& s = r.final_check;
+  std::fprintf(stderr, "static check %d after step %d: %s, residual %.2e (%d sweeps), equilibrium %.2e",
+               r.static_checks, r.steps, ToString(s.report.status), s.report.residual, s.report.iterations,
+               s.equilibrium.residual);
+  std::fprintf(stderr, ", |P_in/P_ext - 1| %.2e: %s\n", r.pressure_mismatch, r.jammed ? "static" : "not yet");
+}
+
 }  // namespace
 
 int RunPack(const PackFlags& f, const std::string& command_line) {
@@ -83,6 +91,7 @@ int RunPack(const PackFlags& f, const std::string& command_line) {
   relax.max_steps = f.max_steps;
   relax.progress_interval = f.quiet ? 0 : 1000;
   relax.progress = PrintProgress;
+  if (!f.quiet) relax.on_check = PrintCheck;
   const RelaxReport r = RelaxToStatic(sim, relax);
 
   Scene result = sim.scene();

@@ -86,6 +86,7 @@ RelaxReport RelaxToStatic(Simulation& sim, const RelaxOptions& o) {
       Scene state = sim.scene();
       state.forces = LastStepForces(sim);
       report.jammed = IsStatic(state, o, report);
+      if (o.on_check) o.on_check(report);
     }
     if (report.jammed) {
       BringToRest(sim.mutable_scene());

@@ -17,7 +17,7 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 for key in ("particles", "contacts", "packing_fraction", "coordination", "rattlers", "steps", "seconds"):
     assert key in d, key
-assert d["settled"] and d["static_solve"]["converged"], d
+assert d["jammed"] and d["static_solve"]["converged"], d
 assert d["equilibrium_residual"] < 1e-8, d["equilibrium_residual"]
 assert d["max_overlap"] < 1e-6, d["max_overlap"]
 PY

@@ -48,6 +48,8 @@ struct RelaxOptions {
   // Called every `progress_interval` steps, 0 = never.
   int progress_interval = 0;
   std::function<void(const Simulation&, int step, const StepReport&)> progress;
+  // Called after every static check with the report so far (final_check is that check).
+  std::function<void(const struct RelaxReport&)> on_check;
 };
 
 struct RelaxReport {
