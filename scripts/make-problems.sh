@@ -29,5 +29,5 @@ for mu in 0.1 1; do
   make "gravity-n1600-mu$mu" --protocol gravity --n 1600 --mu "$mu" --width 100 --seed 1
 done
 
-# The default packing of `unjam` without arguments.
-make default --protocol gravity --n 100 --width 15 --mu 0.5 --seed 1
+# A small pile: quick to load and solve (examples, smoke tests).
+make gravity-n100-mu0.5 --protocol gravity --n 100 --width 15 --mu 0.5 --seed 1

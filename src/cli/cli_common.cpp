@@ -24,7 +24,7 @@ SolverOptions SolverFlags::Resolve() const {
 }
 
 std::string DefaultPackingPath() {
-  const std::filesystem::path local = "problems/default.unjam";
+  const std::filesystem::path local = "problems/pressure-n500-mu0.5.unjam";
   if (std::filesystem::exists(local)) return local.string();
   return (std::filesystem::path(UNJAM_SOURCE_DIR) / local).string();
 }

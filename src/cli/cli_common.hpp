@@ -33,7 +33,7 @@ struct SolverFlags {
   SolverOptions Resolve() const;   // throws std::invalid_argument on a bad value
 };
 
-// The bundled default packing (problems/default.unjam), found from the working directory
+// The bundled default packing (problems/pressure-n500-mu0.5.unjam), found from the working directory
 // or the source tree.
 std::string DefaultPackingPath();
 

@@ -57,6 +57,25 @@ bool IsStatic(const Scene& scene, const RelaxOptions& o, RelaxReport& report) {
   return ok;
 }
 
+// Calm: close the carrying contacts exactly (quench steps from rest, solved tightly), then
+// prove the state static, starting the static solve from its own forces. Up to
+// `quench_rounds` rounds; true (and report.jammed) once a check passes.
+bool QuenchAndProve(Simulation& sim, const RelaxOptions& o, RelaxReport& report) {
+  SetStepSolve(sim, o.polish_tolerance, o.polish_max_iterations);
+  for (int round = 0; round < o.quench_rounds && !report.jammed; ++round) {
+    for (int k = 0; k < o.polish_steps; ++k, ++report.steps) {
+      BringToRest(sim.mutable_scene());
+      const StepReport quench = sim.Step();
+      if (!quench.solve.converged()) ++report.unconverged_steps;
+    }
+    Scene state = sim.scene();
+    state.forces = LastStepForces(sim);
+    report.jammed = IsStatic(state, o, report);
+    if (o.on_check) o.on_check(report);
+  }
+  return report.jammed;
+}
+
 }  // namespace
 
 RelaxReport RelaxToStatic(Simulation& sim, const RelaxOptions& o) {
@@ -74,21 +93,7 @@ RelaxReport RelaxToStatic(Simulation& sim, const RelaxOptions& o) {
       o.progress(sim, report.steps, step);
     }
     if (calm < o.window) continue;
-    // Calm: close the carrying contacts exactly, then prove the state static, starting the
-    // static solve from its own forces.
-    SetStepSolve(sim, o.polish_tolerance, o.polish_max_iterations);
-    for (int round = 0; round < o.quench_rounds && !report.jammed; ++round) {
-      for (int k = 0; k < o.polish_steps; ++k, ++report.steps) {
-        BringToRest(sim.mutable_scene());
-        const StepReport quench = sim.Step();
-        if (!quench.solve.converged()) ++report.unconverged_steps;
-      }
-      Scene state = sim.scene();
-      state.forces = LastStepForces(sim);
-      report.jammed = IsStatic(state, o, report);
-      if (o.on_check) o.on_check(report);
-    }
-    if (report.jammed) {
+    if (QuenchAndProve(sim, o, report)) {
       BringToRest(sim.mutable_scene());
       break;
     }

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Time to a jammed packing vs N, at constant pressure, for μ = 0.1 and μ = 1 (issue 3's
+# measure). Long: hours on one core at N = 8000. Results are appended to
+# bench/results/packing-vs-n.csv as they come (a rerun skips rows already there), and the
+# growth exponent of the cost is fitted at the end.
+# Usage: scripts/bench-packing.sh [BUILD_DIR] [N ...]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+unjam="${1:-$root/build}/unjam"
+shift || true
+[ $# -gt 0 ] && sizes=("$@") || sizes=(500 1000 2000 4000 8000)
+out="$root/bench/results/packing-vs-n.csv"
+mkdir -p "$(dirname "$out")"
+[ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed" >"$out"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+for mu in 0.1 1; do
+  for n in "${sizes[@]}"; do
+    grep -q "^$n,$mu," "$out" && continue
+    "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 -o "$work/p.unjam" --json --quiet >"$work/p.json" || true
+    /usr/bin/python3 - "$work/p.json" "$n" "$mu" >>"$out" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+print(f"{sys.argv[2]},{sys.argv[3]},{d['seconds']:.2f},{d['steps']},{d['static_checks']},"
+      f"{d['packing_fraction']:.5f},{d['coordination']:.4f},{str(d['jammed']).lower()}")
+PY
+    tail -n 1 "$out"
+  done
+done
+/usr/bin/python3 - "$out" <<'PY'
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+for mu in sorted({r["mu"] for r in rows}):
+    pts = [(math.log(int(r["n"])), math.log(float(r["seconds"]))) for r in rows if r["mu"] == mu]
+    if len(pts) < 2:
+        continue
+    mx = sum(x for x, _ in pts) / len(pts); my = sum(y for _, y in pts) / len(pts)
+    slope = sum((x - mx) * (y - my) for x, y in pts) / sum((x - mx) ** 2 for x, _ in pts)
+    print(f"mu = {mu}: cost grows like N^{slope:.2f} over {len(pts)} sizes")
+PY
