@@ -2,7 +2,8 @@
 """Packing fraction and coordination number vs friction of the bundled packings.
 
 Reads every problems/pressure-n500-mu*.unjam through `unjam info --json`, writes the table
-docs/packings-table.md and the figure docs/figures/packings-phi-z.png.
+into docs/packings.md (between the <!-- table --> markers) and the figure
+docs/figures/packings-phi-z.png.
 Usage: /usr/bin/python3 scripts/packing_table.py [BUILD_DIR]
 """
 import glob
@@ -30,11 +31,16 @@ rows.sort()
 if not rows:
     sys.exit("no problems/pressure-n500-mu*.unjam found: run scripts/make-problems.sh first")
 
-with open(os.path.join(root, "docs", "packings-table.md"), "w") as out:
-    out.write("| μ | packing fraction φ | coordination z (rattlers excluded) | rattlers | N | file |\n")
-    out.write("|---|---|---|---|---|---|\n")
-    for mu, phi, z, rattlers, n, name in rows:
-        out.write(f"| {mu:g} | {phi:.4f} | {z:.3f} | {rattlers} | {n} | `{name}` |\n")
+table = ["| μ | packing fraction φ | coordination z (rattlers excluded) | rattlers | N | file |",
+         "|---|---|---|---|---|---|"]
+for mu, phi, z, rattlers, n, name in rows:
+    table.append(f"| {mu:g} | {phi:.4f} | {z:.3f} | {rattlers} | {n} | `{name}` |")
+page = os.path.join(root, "docs", "packings.md")
+text = open(page).read()
+head, rest = text.split("<!-- table -->\n", 1)
+tail = rest.split("<!-- /table -->", 1)[1]
+with open(page, "w") as out:
+    out.write(head + "<!-- table -->\n" + "\n".join(table) + "\n<!-- /table -->" + tail)
 
 # μ = 0 sits at the left edge of a log axis: plot it at μ = 1e-3 and say so.
 mus = [mu if mu > 0 else 1e-3 for mu, *_ in rows]
@@ -50,4 +56,4 @@ right.set_ylabel("coordination z")
 fig.suptitle("Jammed packings at constant pressure, N = 500 (bundled)")
 fig.tight_layout()
 fig.savefig(os.path.join(root, "docs", "figures", "packings-phi-z.png"), dpi=120)
-print(f"{len(rows)} packings: docs/packings-table.md, docs/figures/packings-phi-z.png")
+print(f"{len(rows)} packings: docs/packings.md, docs/figures/packings-phi-z.png")
