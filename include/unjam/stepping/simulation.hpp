@@ -34,7 +34,6 @@ struct StepReport {
   SolveReport solve;
   int contacts = 0;                 // contacts in the problem
   int active_contacts = 0;          // with a non-zero normal impulse
-  double max_overlap = 0.0;         // largest −gap among contacts at the end of the step
   double kinetic_energy = 0.0;      // of the free particles, end of step
 };
 
