@@ -26,6 +26,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--rest-speed", rest_speed, "quench and check when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to a static check (large packings need more)")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
   app.add_flag("--json", json, "one JSON object on stdout");
@@ -89,6 +90,7 @@ int RunPack(const PackFlags& f, const std::string& command_line) {
   relax.step_max_iterations = f.step_iter;
   relax.rest_speed = f.rest_speed;
   relax.max_steps = f.max_steps;
+  relax.static_max_iterations = f.check_iter;
   relax.progress_interval = f.quiet ? 0 : 1000;
   relax.progress = PrintProgress;
   if (!f.quiet) relax.on_check = PrintCheck;

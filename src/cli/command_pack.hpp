@@ -22,6 +22,7 @@ struct PackFlags {
   double step_tol = 1e-4;
   int step_iter = 500;
   double rest_speed = 1e-4;
+  int check_iter = 100000;
   int max_steps = 1000000;
   std::string output;
   bool json = false;

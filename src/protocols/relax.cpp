@@ -46,6 +46,7 @@ void BringToRest(Scene& scene) {
 bool IsStatic(const Scene& scene, const RelaxOptions& o, RelaxReport& report) {
   StaticSolveOptions check;
   check.solver.tolerance = o.static_tolerance;
+  check.solver.max_iterations = o.static_max_iterations;
   report.final_check = SolveStatic(scene, check);
   ++report.static_checks;
   const StaticSolution& s = report.final_check;

@@ -43,6 +43,7 @@ struct RelaxOptions {
   int polish_max_iterations = 200000;
   int max_steps = 1000000;
   double static_tolerance = 1e-10;
+  int static_max_iterations = 100000;   // sweeps of a static check; grow it with the size
   double equilibrium_tolerance = 1e-8;
   double pressure_tolerance = 1e-8;
   // Called every `progress_interval` steps, 0 = never.
