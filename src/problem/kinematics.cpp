@@ -1,5 +1,7 @@
 #include "unjam/problem/kinematics.hpp"
 
+#include <utility>
+
 namespace unjam {
 
 VelocityState FreeVelocityState(const ContactProblem& p) {
@@ -11,6 +13,19 @@ VelocityState FreeVelocityState(const ContactProblem& p) {
   }
   if (p.cell) v.cell_rate = p.cell->free_rate;
   return v;
+}
+
+Eigen::Vector2d DelassusDiagonal(const ContactProblem& p, int k) {
+  const ProblemContact& c = p.contacts[k];
+  double wn = 0.0;
+  double wt = 0.0;
+  for (auto [body, arm] : {std::pair{c.body_i, c.arm_i}, std::pair{c.body_j, c.arm_j}}) {
+    if (body < 0) continue;
+    wn += p.inv_mass[body];
+    if (p.frictional) wt += p.inv_mass[body] + arm * arm * p.inv_inertia[body];
+  }
+  if (p.cell) wn += c.cell_arm * c.cell_arm * p.cell->inv_mass;
+  return Eigen::Vector2d(wn, wt);
 }
 
 void ApplyImpulse(const ContactProblem& p, int k, double dn, double dt, VelocityState& v) {

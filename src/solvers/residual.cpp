@@ -22,21 +22,10 @@ Eigen::Vector2d ProjectOnCone(const Eigen::Vector2d& r, double mu) {
 
 namespace {
 
-// Local effective masses 1/W_nn and 1/W_tt of contact k (the diagonal Delassus blocks).
+// Local effective masses 1/W_nn and 1/W_tt of contact k (0 where W vanishes).
 Eigen::Vector2d LocalMass(const ContactProblem& p, int k) {
-  const ProblemContact& c = p.contacts[k];
-  double wn = 0.0;
-  double wt = 0.0;
-  if (c.body_i >= 0) {
-    wn += p.inv_mass[c.body_i];
-    wt += p.inv_mass[c.body_i] + (p.frictional ? c.arm_i * c.arm_i * p.inv_inertia[c.body_i] : 0.0);
-  }
-  if (c.body_j >= 0) {
-    wn += p.inv_mass[c.body_j];
-    wt += p.inv_mass[c.body_j] + (p.frictional ? c.arm_j * c.arm_j * p.inv_inertia[c.body_j] : 0.0);
-  }
-  if (p.cell) wn += c.cell_arm * c.cell_arm * p.cell->inv_mass;
-  return Eigen::Vector2d(wn > 0.0 ? 1.0 / wn : 0.0, wt > 0.0 ? 1.0 / wt : 0.0);
+  const Eigen::Vector2d w = DelassusDiagonal(p, k);
+  return Eigen::Vector2d(w[0] > 0.0 ? 1.0 / w[0] : 0.0, w[1] > 0.0 ? 1.0 / w[1] : 0.0);
 }
 
 // ρ_k: the normal effective mass of contact k, which turns a velocity into an impulse.

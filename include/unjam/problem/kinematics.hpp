@@ -22,6 +22,10 @@ VelocityState FreeVelocityState(const ContactProblem& problem);
 VelocityState EndVelocityState(const ContactProblem& problem, const Eigen::VectorXd& impulses);
 // Posed velocity ũ_k = (u_n − target, u_t) of contact k.
 Eigen::Vector2d PosedVelocity(const ContactProblem& problem, const VelocityState& v, int k);
+// The diagonal Delassus block of contact k, (W_nn, W_tt): for disks the normal impulse
+// exerts no torque, so the block is diagonal. A side without degrees of freedom adds
+// nothing; the cell adds c_k² / (M_λ D V) to W_nn. W_tt is 0 without friction.
+Eigen::Vector2d DelassusDiagonal(const ContactProblem& problem, int k);
 // Adds M⁻¹ Hᵀ of the impulse (dn, dt) of contact k to v.
 void ApplyImpulse(const ContactProblem& problem, int k, double dn, double dt, VelocityState& v);
 
