@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "unjam/problem/kinematics.hpp"
 
@@ -24,8 +25,10 @@ double Simulation::DetectionMargin() const {
   for (const PrescribedMotion& m : scene_.effects.prescribed_motion) {
     fastest = std::max(fastest, m.velocity.norm() + std::abs(m.spin));
   }
-  if (scene_.effects.pressure_bath) {
-    fastest += std::abs(scene_.effects.pressure_bath->strain_rate) * scene_.cell.size.maxCoeff();
+  if (const auto& bath = scene_.effects.pressure_bath) {
+    // The cell may start to shrink within the step: λ_free = λ + Δt (P_kin − P_ext)/M_λ.
+    const double rate = std::abs(bath->strain_rate) + options_.dt * bath->pressure / bath->cell_mass;
+    fastest += rate * scene_.cell.size.maxCoeff();
   }
   return std::max(options_.margin, 4.0 * options_.dt * fastest);
 }
@@ -103,6 +106,31 @@ void Simulation::Integrate(const AssembledProblem& assembled, const Eigen::Vecto
     scene_.effects.pressure_bath->strain_rate = rate;
   }
   WrapPositions(scene_);
+}
+
+std::vector<ContactForce> Simulation::WarmStartImpulses() const {
+  std::vector<ContactForce> out;
+  for (std::size_t k = 0; k < contacts_.size(); ++k) {
+    if (impulses_[k][0] == 0.0 && impulses_[k][1] == 0.0) continue;
+    out.push_back({contacts_[k].i, contacts_[k].j, contacts_[k].image, impulses_[k][0], impulses_[k][1]});
+  }
+  return out;
+}
+
+void Simulation::RestoreWarmStart(const std::vector<ContactForce>& impulses) {
+  std::vector<ContactForce> sorted = impulses;
+  auto key = [](const ContactForce& f) { return std::tie(f.i, f.j, f.image); };
+  std::sort(sorted.begin(), sorted.end(), [&](const ContactForce& a, const ContactForce& b) { return key(a) < key(b); });
+  contacts_.clear();
+  impulses_.clear();
+  for (const ContactForce& f : sorted) {
+    Contact c;  // only the key matters to the warm start
+    c.i = f.i;
+    c.j = f.j;
+    c.image = f.image;
+    contacts_.push_back(c);
+    impulses_.emplace_back(f.normal, f.tangential);
+  }
 }
 
 std::vector<ContactForce> LastStepForces(const Simulation& sim) {

@@ -49,6 +49,10 @@ class Simulation {
   const StepOptions& options() const { return options_; }
   // Solver options may change between steps (tolerance schedules); the backend may not.
   StepOptions& mutable_options() { return options_; }
+  // The warm start of the next step: the last step's non-zero impulses (not forces), keyed
+  // by contact, and its replacement (a checkpoint saves and restores it exactly).
+  std::vector<ContactForce> WarmStartImpulses() const;
+  void RestoreWarmStart(const std::vector<ContactForce>& impulses);
   // Contacts of the last step (start-of-step geometry) and their impulses (n, t).
   const std::vector<Contact>& contacts() const { return contacts_; }
   const std::vector<Eigen::Vector2d>& impulses() const { return impulses_; }
