@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "unjam/indeterminacy/equilibrium_system.hpp"
+#include "unjam/protocols/contact_closure.hpp"
+
 namespace unjam {
 
 double VelocityScale(const Scene& scene) {
@@ -13,8 +16,7 @@ double VelocityScale(const Scene& scene) {
 
 namespace {
 
-// Mean translational speed of the free particles, or the cell's L·|λ| if larger. A mean,
-// not a maximum: a rattler can roll round its cage without losing energy for ever.
+// Mean translational speed of the free particles, or the cell's L·|λ| if larger.
 double MeanSpeed(const Scene& scene) {
   double sum = 0.0;
   int free = 0;
@@ -30,11 +32,6 @@ double MeanSpeed(const Scene& scene) {
   return mean;
 }
 
-void SetStepSolve(Simulation& sim, double tolerance, int max_iterations) {
-  sim.mutable_options().solver.tolerance = tolerance;
-  sim.mutable_options().solver.max_iterations = max_iterations;
-}
-
 void BringToRest(Scene& scene) {
   for (Particle& p : scene.particles) {
     p.velocity = Vec2::Zero();
@@ -43,64 +40,109 @@ void BringToRest(Scene& scene) {
   if (scene.effects.pressure_bath) scene.effects.pressure_bath->strain_rate = 0.0;
 }
 
-bool IsStatic(const Scene& scene, const RelaxOptions& o, RelaxReport& report) {
+AdmissibleForces Admissible(const EquilibriumSystem& system, const std::vector<ContactForce>& reference) {
+  AdmissibleOptions options;
+  options.method = AdmissibleMethod::kProjection;  // the LP is slow at N ~ 1e3; a later attempt is cheaper
+  return NearestAdmissibleForces(system, StoredForcesOf(system, reference), options);
+}
+
+// Step 3b: close the carrying contacts, and any contact that overlaps (also one that the
+// closure itself made overlap: up to three rounds).
+bool CloseCarryingContacts(Scene& state, const EquilibriumSystem& system, const Eigen::VectorXd& forces,
+                           double tolerance, RelaxReport& report) {
+  std::vector<ContactKey> keys;
+  for (std::size_t k = 0; k < system.contacts.size(); ++k) {
+    const Contact& c = system.contacts[k];
+    if (forces[system.UnknownsPerContact() * k] > 0.0 || c.gap < 0.0) keys.push_back({c.i, c.j, c.image});
+  }
+  for (int round = 0; round < 3; ++round) {
+    const ClosureReport closure = CloseContacts(state, keys);
+    report.closure_displacement = std::max(report.closure_displacement, closure.max_displacement);
+    if (!closure.closed) return false;
+    bool overlap = false;
+    for (const Contact& c : DetectContacts(state, 0.0)) {
+      if (c.gap >= -tolerance) continue;
+      keys.push_back({c.i, c.j, c.image});
+      overlap = true;
+    }
+    if (!overlap) return true;
+  }
+  return false;
+}
+
+// Step 3d: the static solve of the certified state.
+bool StaticCheck(const Scene& state, const RelaxOptions& o, RelaxReport& report) {
   StaticSolveOptions check;
+  check.closed_gap_tolerance = o.closed_gap_tolerance;
   check.solver.tolerance = o.static_tolerance;
   check.solver.max_iterations = o.static_max_iterations;
-  report.final_check = SolveStatic(scene, check);
-  ++report.static_checks;
+  report.final_check = SolveStatic(state, check);
   const StaticSolution& s = report.final_check;
   bool ok = s.report.converged() && s.equilibrium.residual <= o.equilibrium_tolerance;
-  if (scene.effects.pressure_bath) {
-    report.pressure_mismatch = std::abs(s.equilibrium.pressure / scene.effects.pressure_bath->pressure - 1.0);
+  if (state.effects.pressure_bath) {
+    report.pressure_mismatch = std::abs(s.equilibrium.pressure / state.effects.pressure_bath->pressure - 1.0);
     ok = ok && report.pressure_mismatch <= o.pressure_tolerance;
   }
+  if (!ok) report.check_message = "the static solve of the certified state did not pass";
   return ok;
 }
 
-// Calm: close the carrying contacts exactly (quench steps from rest, solved tightly), then
-// prove the state static, starting the static solve from its own forces. Up to
-// `quench_rounds` rounds; true (and report.jammed) once a check passes.
-bool QuenchAndProve(Simulation& sim, const RelaxOptions& o, RelaxReport& report) {
-  SetStepSolve(sim, o.polish_tolerance, o.polish_max_iterations);
-  for (int round = 0; round < o.quench_rounds && !report.jammed; ++round) {
-    for (int k = 0; k < o.polish_steps; ++k, ++report.steps) {
-      BringToRest(sim.mutable_scene());
-      const StepReport quench = sim.Step();
-      if (!quench.solve.converged()) ++report.unconverged_steps;
-    }
-    Scene state = sim.scene();
-    state.forces = LastStepForces(sim);
-    report.jammed = IsStatic(state, o, report);
-    if (o.on_check) o.on_check(report);
+// Step 3 on `state` (a copy, at rest), starting from the last step's forces.
+bool Certify(Scene& state, const std::vector<ContactForce>& reference, const RelaxOptions& o, RelaxReport& report) {
+  report.check_message.clear();
+  EquilibriumSystemOptions near;
+  near.closed_gap_tolerance = o.closure_gap;
+  const EquilibriumSystem loose = BuildEquilibriumSystem(state, near);
+  report.certificate = Admissible(loose, reference);
+  if (report.certificate.status != AdmissibleStatus::kAdmissible) {
+    report.check_message = report.certificate.message;
+    return false;
   }
-  return report.jammed;
+  if (!CloseCarryingContacts(state, loose, report.certificate.forces, o.closed_gap_tolerance, report)) {
+    report.check_message = "contact closure failed";
+    return false;
+  }
+  EquilibriumSystemOptions closed;
+  closed.closed_gap_tolerance = o.closed_gap_tolerance;
+  const EquilibriumSystem system = BuildEquilibriumSystem(state, closed);
+  report.certificate = Admissible(system, ToContactForces(loose, report.certificate.forces));
+  if (report.certificate.status != AdmissibleStatus::kAdmissible) {
+    report.check_message = "after contact closure: " + report.certificate.message;
+    return false;
+  }
+  state.forces = ToContactForces(system, report.certificate.forces);
+  return StaticCheck(state, o, report);
 }
 
 }  // namespace
 
-RelaxReport RelaxToStatic(Simulation& sim, const RelaxOptions& o) {
-  RelaxReport report;
-  report.step_tolerance = o.loose_step_tolerance;
-  SetStepSolve(sim, report.step_tolerance, o.step_max_iterations);
+RelaxReport RelaxToStatic(Simulation& sim, const RelaxOptions& o, RelaxReport report) {
+  sim.mutable_options().solver.tolerance = o.step_tolerance;
+  sim.mutable_options().solver.max_iterations = o.step_max_iterations;
   const double threshold = o.rest_speed * VelocityScale(sim.scene());
-  int calm = 0;
   while (report.steps < o.max_steps) {
     const StepReport step = sim.Step();
     ++report.steps;
     if (!step.solve.converged()) ++report.unconverged_steps;
-    calm = MeanSpeed(sim.scene()) < threshold ? calm + 1 : 0;
+    report.calm_steps = MeanSpeed(sim.scene()) < threshold ? report.calm_steps + 1 : 0;
     if (o.progress && o.progress_interval > 0 && report.steps % o.progress_interval == 0) {
       o.progress(sim, report.steps, step);
     }
-    if (calm < o.window) continue;
-    if (QuenchAndProve(sim, o, report)) {
-      BringToRest(sim.mutable_scene());
-      break;
+    if (report.calm_steps >= o.window && report.steps >= report.next_attempt) {
+      Scene state = sim.scene();
+      BringToRest(state);
+      ++report.static_checks;
+      report.jammed = Certify(state, LastStepForces(sim), o, report);
+      if (o.on_check) o.on_check(report);
+      if (report.jammed) {
+        sim.mutable_scene() = std::move(state);
+        break;
+      }
+      report.next_attempt = report.steps + std::max(o.window, static_cast<int>(o.retry_fraction * report.steps));
     }
-    calm = 0;
-    report.step_tolerance = std::max(o.tight_step_tolerance, report.step_tolerance * 0.1);
-    SetStepSolve(sim, report.step_tolerance, o.step_max_iterations);
+    if (o.on_checkpoint && o.checkpoint_interval > 0 && report.steps % o.checkpoint_interval == 0) {
+      o.on_checkpoint(sim, report);
+    }
   }
   return report;
 }

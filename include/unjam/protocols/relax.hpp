@@ -1,69 +1,82 @@
-// Run contact dynamics until the packing is static, and prove it with a static solve.
+// Run contact dynamics until the packing is static, and prove it.
 //
-// Dynamics runs with a loose per-step tolerance and a budget of sweeps per step while grains
-// are in flight (contact dynamics in dense packings is not solved tightly at every step:
-// the sweeps needed grow like (L/d)²). When the mean translational speed (and the cell's
-// L·|λ|) has stayed below `rest_speed`·V₀ for `window` steps, the state is quenched:
-// `polish_steps` times, all velocities (and λ) are set to zero and one step is solved to
-// `polish_tolerance`. From rest, a step moves only what the load can move, and closes the
-// gaps of the carrying contacts to round-off (position-level Signorini): an overdamped
-// finish that removes the last creep left by inexact dynamics steps. Then a static check
-// is made: the static solve of the quenched state (docs/method.md), started from the last
-// step's forces. Up to `quench_rounds` quench-and-check rounds are tried.
-// Neither spins nor single particles are part of the criterion: a rattler may spin, or roll
-// round its cage, for ever without losing energy.
-// The packing is static (jammed) when that solve
-//   - converges to the residual `static_tolerance`,
-//   - leaves every free particle in force and torque balance within
-//     `equilibrium_tolerance` of the mean contact force (from rest with Δt = 1 this also
-//     bounds every end-of-step speed), and
-//   - under a pressure bath, has the virial pressure equal to P_ext within
-//     `pressure_tolerance` (relative).
-// Otherwise the per-step tolerance is tightened (÷10, down to `tight_step_tolerance`) and
-// dynamics goes on. A jammed state is returned at rest (velocities, spins and λ zero). V₀ is the velocity scale √(g R_max) under gravity, √(P_ext/ρ) under a
-// pressure bath.
+// 1. Dynamics with a loose per-step tolerance and a budget of sweeps per step (contact
+//    dynamics of dense packings is not solved tightly at every step: the sweeps needed grow
+//    like (L/d)²).
+// 2. Calm: the mean translational speed of the free particles (and the cell's L·|λ|) has
+//    stayed below `rest_speed`·V₀ for `window` steps. A mean, not a maximum, and no spins: a
+//    rattler may spin, or roll round its cage, for ever without losing energy.
+// 3. Certificate, on a copy of the state (docs/method.md, "Until static"):
+//    a. the admissible forces nearest to the last step's forces on the contacts whose gap is
+//       at most `closure_gap` (indeterminacy/admissible_forces.hpp): forces that balance
+//       every free particle (and the cell's pressure) to round-off inside the Coulomb cones;
+//    b. contact closure (contact_closure.hpp): the smallest displacement that brings the
+//       gaps of the carrying (and of any overlapping) contacts to zero, typically 1e-6;
+//    c. the same certificate again on the closed state, with only contacts closed to
+//       `closed_gap_tolerance` counted as closed (the static solve's rule);
+//    d. the static solve of the closed state started from those forces (the unjam residual,
+//       docs/residual.md) must converge to `static_tolerance` with every particle balanced
+//       within `equilibrium_tolerance` and P_in = P_ext within `pressure_tolerance`.
+//    If admissible forces exist, one contact-dynamics step from rest moves nothing: the
+//    packing is static and is returned at rest (velocities, spins and λ zero) with the
+//    forces of the check in `final_check`. A failed attempt leaves the dynamics untouched,
+//    and the next one waits `retry_fraction` × (steps so far), so that attempts add at most
+//    a fixed fraction of the cost.
+// V₀ is √(g R_max) under gravity and √(P_ext/ρ) under a pressure bath.
 #pragma once
 
 #include <functional>
+#include <string>
 
+#include "unjam/indeterminacy/admissible_forces.hpp"
 #include "unjam/protocols/static_solve.hpp"
 #include "unjam/stepping/simulation.hpp"
 
 namespace unjam {
 
 struct RelaxOptions {
-  double loose_step_tolerance = 1e-4;
-  double tight_step_tolerance = 1e-8;
-  int step_max_iterations = 500;        // sweeps per dynamics step
-  double rest_speed = 1e-4;             // mean speed, × V₀
-  int window = 20;                      // steps
-  int polish_steps = 5;
-  int quench_rounds = 4;
-  double polish_tolerance = 1e-10;
-  int polish_max_iterations = 200000;
+  double step_tolerance = 1e-4;          // per dynamics step
+  int step_max_iterations = 500;         // sweeps per dynamics step
+  double rest_speed = 1e-2;              // mean speed, × V₀
+  int window = 20;                       // steps
+  double retry_fraction = 0.1;
+  double closure_gap = 1e-6;             // contacts this close may carry force and be closed
+  double closed_gap_tolerance = 1e-9;    // as the static solve
   int max_steps = 1000000;
   double static_tolerance = 1e-10;
-  int static_max_iterations = 100000;   // sweeps of a static check; grow it with the size
+  int static_max_iterations = 100000;
   double equilibrium_tolerance = 1e-8;
   double pressure_tolerance = 1e-8;
   // Called every `progress_interval` steps, 0 = never.
   int progress_interval = 0;
   std::function<void(const Simulation&, int step, const StepReport&)> progress;
-  // Called after every static check with the report so far (final_check is that check).
+  // Called after every certificate with the report so far.
   std::function<void(const struct RelaxReport&)> on_check;
+  // Called every `checkpoint_interval` steps (0 = never) with the simulation and the report,
+  // which is all the state of the run: the callback may save it, and may replace the
+  // simulation's state by what it saved (so that a resumed run is bit for bit the same).
+  int checkpoint_interval = 0;
+  std::function<void(Simulation&, const struct RelaxReport&)> on_checkpoint;
 };
 
 struct RelaxReport {
   bool jammed = false;
   int steps = 0;
-  int static_checks = 0;
+  int static_checks = 0;                // certificates attempted
   int unconverged_steps = 0;            // steps whose solve hit its iteration limit
-  double step_tolerance = 0.0;          // the per-step tolerance at the end
-  StaticSolution final_check;           // the last static check (valid if static_checks > 0)
-  double pressure_mismatch = 0.0;       // |P_in/P_ext − 1| of the last check (pressure bath)
+  AdmissibleForces certificate;         // the last certificate
+  std::string check_message;            // why the last attempt failed, if it did
+  double closure_displacement = 0.0;    // largest displacement of the last contact closure
+  StaticSolution final_check;           // static solve of the certified state (if any)
+  double pressure_mismatch = 0.0;       // |P_in/P_ext − 1| of the final check (pressure bath)
+  // The loop's own state, so that a run can resume from a checkpoint.
+  int calm_steps = 0;                   // consecutive steps below the rest speed
+  int next_attempt = 0;                 // no certificate before this step
 };
 
-RelaxReport RelaxToStatic(Simulation& simulation, const RelaxOptions& options);
+// Runs from `resume` (a fresh report to start, or one saved by on_checkpoint together with
+// the simulation's state).
+RelaxReport RelaxToStatic(Simulation& simulation, const RelaxOptions& options, RelaxReport resume = {});
 
 // V₀ of a scene (see above); 1 without gravity and pressure.
 double VelocityScale(const Scene& scene);
