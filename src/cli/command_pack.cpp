@@ -1,6 +1,9 @@
 // `unjam pack`: make a static packing and save it with its contact forces.
 #include "command_pack.hpp"
+#include "pack_checkpoint.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 
@@ -25,34 +28,59 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--dt", dt, "time step (default 1e-2 pressure, 5e-3 gravity)")->check(CLI::PositiveNumber);
   app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--rest-speed", rest_speed, "quench and check when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to a static check (large packings need more)")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
+  app.add_option("--checkpoint", checkpoint, "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");
+  app.add_option("--checkpoint-every", checkpoint_every, "steps between checkpoints (0: none)")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_flag("--json", json, "one JSON object on stdout");
   app.add_flag("--quiet", quiet, "no progress on stderr");
 }
 
 namespace {
 
+int Particles(const PackFlags& f) { return f.n > 0 ? f.n : (f.protocol == "pressure" ? 500 : 1600); }
+double InitialFraction(const PackFlags& f) { return f.initial_fraction.value_or(f.protocol == "pressure" ? 0.3 : 0.35); }
+double TimeStep(const PackFlags& f) { return f.dt.value_or(f.protocol == "pressure" ? 1e-2 : 5e-3); }
+
 Scene InitialScene(const PackFlags& f) {
   if (f.protocol == "pressure") {
     GasOptions gas;
-    gas.particles = f.n > 0 ? f.n : 500;
+    gas.particles = Particles(f);
     gas.friction = f.mu;
     gas.pressure = f.pressure;
     gas.cell_mass = f.cell_mass;
-    gas.initial_packing_fraction = f.initial_fraction.value_or(0.3);
+    gas.initial_packing_fraction = InitialFraction(f);
     gas.seed = f.seed;
     return MakeGranularGas(gas);
   }
   PileOptions pile;
-  pile.particles = f.n > 0 ? f.n : 1600;
+  pile.particles = Particles(f);
   pile.width = f.width;
   pile.friction = f.mu;
-  pile.initial_packing_fraction = f.initial_fraction.value_or(0.35);
+  pile.initial_packing_fraction = InitialFraction(f);
   pile.seed = f.seed;
   return MakeLoosePile(pile);
+}
+
+// The shortest decimal that reads back to the same double.
+std::string Number(double x) {
+  char buffer[32];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
+  return std::string(buffer, result.ptr);
+}
+
+// The command line that remakes the packing, every parameter spelled out.
+std::string Provenance(const nlohmann::json& p) {
+  std::string line = "unjam pack";
+  for (const auto& [key, value] : p.items()) {
+    if (key == "unjam") continue;
+    std::string flag = key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    line += " --" + flag + " " + (value.is_number_float() ? Number(value.get<double>()) : value.is_string() ? value.get<std::string>() : value.dump());
+  }
+  return line + " (unjam " + p["unjam"].get<std::string>() + ")";
 }
 
 void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
@@ -69,24 +97,63 @@ void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
 }
 
 void PrintCheck(const RelaxReport& r) {
+  std::fprintf(stderr, "static check %d after step %d: ", r.static_checks, r.steps);
+  if (r.jammed) {
+    const StaticSolution& s = r.final_check;
+    std::fprintf(stderr, "static (contacts closed by moving particles at most %.1e; residual %.2e, equilibrium %.2e",
+                 r.closure_displacement, s.report.residual, s.equilibrium.residual);
+    if (s.equilibrium.pressure != 0.0) std::fprintf(stderr, ", |P_in/P_ext - 1| %.2e", r.pressure_mismatch);
+    std::fprintf(stderr, ")\n");
+  } else {
+    std::fprintf(stderr, "not yet (%s)\n", r.check_message.c_str());
+  }
+}
+
+nlohmann::json Summary(const PackFlags& f, const Scene& result, const RelaxReport& r, double seconds) {
   const StaticSolution& s = r.final_check;
-  std::fprintf(stderr, "static check %d after step %d: %s, residual %.2e (%d sweeps), equilibrium %.2e",
-               r.static_checks, r.steps, ToString(s.report.status), s.report.residual, s.report.iterations,
-               s.equilibrium.residual);
-  std::fprintf(stderr, ", |P_in/P_ext - 1| %.2e: %s\n", r.pressure_mismatch, r.jammed ? "static" : "not yet");
+  const Coordination z = ComputeCoordination(result, s.contacts, s.forces);
+  nlohmann::json out = {{"protocol", f.protocol}, {"particles", result.particles.size()},
+                        {"contacts", z.force_carrying_contacts}, {"packing_fraction", PackingFraction(result)},
+                        {"coordination", z.z}, {"rattlers", z.rattlers}, {"steps", r.steps},
+                        {"jammed", r.jammed}, {"static_checks", r.static_checks},
+                        {"unconverged_steps", r.unconverged_steps}, {"max_overlap", MaxOverlap(result)},
+                        {"closure_displacement", r.closure_displacement},
+                        {"static_solve", ToJson(s.report)}, {"equilibrium_residual", s.equilibrium.residual},
+                        {"seconds", seconds}, {"output", f.output}, {"parameters", f.Parameters()}};
+  out["pressure"] = result.effects.pressure_bath ? nlohmann::json(s.equilibrium.pressure) : nlohmann::json(nullptr);
+  return out;
 }
 
 }  // namespace
 
-int RunPack(const PackFlags& f, const std::string& command_line) {
+nlohmann::json PackFlags::Parameters() const {
+  nlohmann::json p = {{"unjam", UNJAM_VERSION}, {"protocol", protocol}, {"n", Particles(*this)}, {"mu", mu}};
+  if (protocol == "pressure") {
+    p["pressure"] = pressure;
+    p["cell_mass"] = cell_mass;
+  } else {
+    p["width"] = width;
+  }
+  p["initial_fraction"] = InitialFraction(*this);
+  p["seed"] = seed;
+  p["dt"] = TimeStep(*this);
+  p["step_tol"] = step_tol;
+  p["step_iter"] = step_iter;
+  p["rest_speed"] = rest_speed;
+  p["check_iter"] = check_iter;
+  return p;
+}
+
+int RunPack(const PackFlags& f) {
   const auto start = std::chrono::steady_clock::now();
-  Scene scene = InitialScene(f);
-  scene.provenance = command_line;
+  const nlohmann::json parameters = f.Parameters();
   StepOptions step;
-  step.dt = f.dt.value_or(f.protocol == "pressure" ? 1e-2 : 5e-3);
+  step.dt = TimeStep(f);
+  Scene scene = InitialScene(f);
+  scene.provenance = Provenance(parameters);
   Simulation sim(scene, step);
   RelaxOptions relax;
-  relax.loose_step_tolerance = f.step_tol;
+  relax.step_tolerance = f.step_tol;
   relax.step_max_iterations = f.step_iter;
   relax.rest_speed = f.rest_speed;
   relax.max_steps = f.max_steps;
@@ -94,29 +161,27 @@ int RunPack(const PackFlags& f, const std::string& command_line) {
   relax.progress_interval = f.quiet ? 0 : 1000;
   relax.progress = PrintProgress;
   if (!f.quiet) relax.on_check = PrintCheck;
-  const RelaxReport r = RelaxToStatic(sim, relax);
+
+  const std::string checkpoint_path = f.checkpoint.empty() ? f.output + ".checkpoint" : f.checkpoint;
+  PackCheckpointer checkpointer(checkpoint_path, parameters, f.checkpoint_every > 0);
+  const RelaxReport resume = checkpointer.Resume(sim);
+  relax.checkpoint_interval = f.checkpoint_every;
+  relax.on_checkpoint = [&](Simulation& s, const RelaxReport& r) { checkpointer.Save(s, r); };
+  const RelaxReport r = RelaxToStatic(sim, relax, resume);
 
   Scene result = sim.scene();
-  const StaticSolution& s = r.final_check;
-  result.forces = ToContactForces(s);
+  result.forces = ToContactForces(r.final_check);
   WritePacking(result, f.output);
-
-  const Coordination z = ComputeCoordination(result, s.contacts, s.forces);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  nlohmann::json out = {{"protocol", f.protocol}, {"particles", result.particles.size()},
-                        {"contacts", z.force_carrying_contacts}, {"packing_fraction", PackingFraction(result)},
-                        {"coordination", z.z}, {"rattlers", z.rattlers}, {"steps", r.steps},
-                        {"jammed", r.jammed}, {"static_checks", r.static_checks},
-                        {"unconverged_steps", r.unconverged_steps}, {"max_overlap", MaxOverlap(result)},
-                        {"static_solve", ToJson(s.report)}, {"equilibrium_residual", s.equilibrium.residual},
-                        {"seconds", seconds}, {"output", f.output}};
-  out["pressure"] = result.effects.pressure_bath ? nlohmann::json(s.equilibrium.pressure) : nlohmann::json(nullptr);
+  const double seconds = checkpointer.PreviousSeconds() +
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const nlohmann::json out = Summary(f, result, r, seconds);
   std::printf("%s\n", f.json ? out.dump().c_str() : out.dump(2).c_str());
   if (!r.jammed) {
-    std::fprintf(stderr, "unjam pack: not static after %d steps (%d static checks failed); saved anyway\n",
-                 r.steps, r.static_checks);
+    std::fprintf(stderr, "unjam pack: not static after %d steps (%d static checks failed); saved anyway; "
+                 "%s lets a rerun with a larger --max-steps resume\n", r.steps, r.static_checks, checkpoint_path.c_str());
     return kNotConverged;
   }
+  checkpointer.Remove();
   return kOk;
 }
 

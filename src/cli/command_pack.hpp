@@ -4,6 +4,7 @@
 #include <optional>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
 
@@ -21,17 +22,22 @@ struct PackFlags {
   std::optional<double> dt;
   double step_tol = 1e-4;
   int step_iter = 500;
-  double rest_speed = 1e-4;
+  double rest_speed = 1e-2;
   int check_iter = 100000;
   int max_steps = 1000000;
   std::string output;
+  std::string checkpoint;           // default: OUTPUT.checkpoint
+  int checkpoint_every = 1000;      // steps; 0: no checkpoints
   bool json = false;
   bool quiet = false;
 
   void Register(CLI::App& app);
+  // Every parameter that decides the packing, defaults resolved: stored in the file (as a
+  // command line that remakes it) and in checkpoints (a resumed run must match it).
+  nlohmann::json Parameters() const;
 };
 
-int RunPack(const PackFlags& flags, const std::string& command_line);
+int RunPack(const PackFlags& flags);
 int RunMainJob();
 
 }  // namespace unjam::cli

@@ -12,12 +12,6 @@
 
 namespace {
 
-std::string JoinArguments(int argc, char** argv) {
-  std::string line = "unjam";
-  for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
-  return line;
-}
-
 int Run(int argc, char** argv) {
   using namespace unjam::cli;
   CLI::App app{"unjam: how jammed packings of rigid frictional disks respond to local disturbances.\n"
@@ -57,7 +51,7 @@ int Run(int argc, char** argv) {
   try {
     if (*info) return RunInfo(info_file, info_json);
     if (*solve) return RunSolve(solve_file, solver, solve_json, solve_list, solve_output);
-    if (*pack) return RunPack(pack_flags, JoinArguments(argc, argv));
+    if (*pack) return RunPack(pack_flags);
     return RunMainJob();
   } catch (const unjam::InputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

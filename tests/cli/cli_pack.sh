@@ -45,6 +45,21 @@ worst = max(max(abs(a[k][0] - b[k][0]), abs(a[k][1] - b[k][1])) for k in a) / sc
 assert worst < 1e-8, worst
 PY
 
+# Checkpoints: a run stopped at --max-steps resumes from its checkpoint and ends bit for bit
+# as an uninterrupted run; a checkpoint of other parameters is refused.
+args=(pack --protocol gravity --n 12 --width 8 --seed 3 --quiet --checkpoint-every 10)
+"$unjam" "${args[@]}" --mu 0.5 -o "$work/r.unjam" --max-steps 35 >/dev/null 2>&1; code=$?
+[ "$code" -eq 3 ] || fail "--max-steps 35: exit $code, expected 3 (not static yet)"
+[ -e "$work/r.unjam.checkpoint" ] || fail "no checkpoint left by the interrupted run"
+"$unjam" "${args[@]}" --mu 0.5 -o "$work/r.unjam" >/dev/null 2>"$work/resume.err" || fail "resume: exit $?"
+grep -q "resuming from" "$work/resume.err" || fail "the rerun did not say it resumed"
+cmp -s "$work/a.unjam" "$work/r.unjam" || fail "resumed run differs from the uninterrupted one"
+[ ! -e "$work/r.unjam.checkpoint" ] || fail "checkpoint left after a finished run"
+"$unjam" "${args[@]}" --mu 0.6 -o "$work/m.unjam" --max-steps 15 >/dev/null 2>&1
+"$unjam" "${args[@]}" --mu 0.5 -o "$work/m.unjam" >/dev/null 2>"$work/m.err"; code=$?
+[ "$code" -eq 2 ] || fail "checkpoint with other parameters: exit $code, expected 2"
+grep -q "mu 0.6" "$work/m.err" || fail "the error does not name the differing parameter: $(cat "$work/m.err")"
+
 "$unjam" pack --protocol gravity --n 0 -o "$work/c.unjam" 2>"$work/err"; code=$?
 [ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"
 [ ! -e "$work/c.unjam" ] || fail "--n 0 left a file"
