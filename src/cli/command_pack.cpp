@@ -169,16 +169,26 @@ int RunPack(const PackFlags& f) {
   relax.on_checkpoint = [&](Simulation& s, const RelaxReport& r) { checkpointer.Save(s, r); };
   const RelaxReport r = RelaxToStatic(sim, relax, resume);
 
+  // A packing not proven static is no result: no output file; its state goes to the
+  // checkpoint, from which a rerun with a larger --max-steps resumes.
   Scene result = sim.scene();
   result.forces = ToContactForces(r.final_check);
-  WritePacking(result, f.output);
+  if (r.jammed) {
+    WritePacking(result, f.output);
+  } else {
+    checkpointer.Save(sim, r);
+  }
   const double seconds = checkpointer.PreviousSeconds() +
                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const nlohmann::json out = Summary(f, result, r, seconds);
+  nlohmann::json out = Summary(f, result, r, seconds);
+  if (!r.jammed) out["output"] = nullptr;
   std::printf("%s\n", f.json ? out.dump().c_str() : out.dump(2).c_str());
   if (!r.jammed) {
-    std::fprintf(stderr, "unjam pack: not static after %d steps (%d static checks failed); saved anyway; "
-                 "%s lets a rerun with a larger --max-steps resume\n", r.steps, r.static_checks, checkpoint_path.c_str());
+    std::fprintf(stderr, "unjam pack: not static after %d steps (%d static checks failed: %s); %s not written; %s\n",
+                 r.steps, r.static_checks, r.check_message.empty() ? "none attempted" : r.check_message.c_str(),
+                 f.output.c_str(),
+                 f.checkpoint_every > 0 ? ("rerun with a larger --max-steps to resume from " + checkpoint_path).c_str()
+                                        : "no checkpoint (--checkpoint-every 0)");
     return kNotConverged;
   }
   checkpointer.Remove();

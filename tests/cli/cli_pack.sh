@@ -51,6 +51,7 @@ args=(pack --protocol gravity --n 12 --width 8 --seed 3 --quiet --checkpoint-eve
 "$unjam" "${args[@]}" --mu 0.5 -o "$work/r.unjam" --max-steps 35 >/dev/null 2>&1; code=$?
 [ "$code" -eq 3 ] || fail "--max-steps 35: exit $code, expected 3 (not static yet)"
 [ -e "$work/r.unjam.checkpoint" ] || fail "no checkpoint left by the interrupted run"
+[ ! -e "$work/r.unjam" ] || fail "a packing not proven static was written"
 "$unjam" "${args[@]}" --mu 0.5 -o "$work/r.unjam" >/dev/null 2>"$work/resume.err" || fail "resume: exit $?"
 grep -q "resuming from" "$work/resume.err" || fail "the rerun did not say it resumed"
 cmp -s "$work/a.unjam" "$work/r.unjam" || fail "resumed run differs from the uninterrupted one"
