@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Time to a jammed packing vs N, at constant pressure, for μ = 0.1 and μ = 1 (issue 3's
-# measure). Long: hours on one core at N = 8000. Results are appended to
+# measure). Long: hours on one core at N = 8000. Sizes in the outer loop, so that an
+# interrupted run has both μ up to some N. Results are appended to
 # bench/results/packing-vs-n.csv as they come (a rerun skips rows already there), and the
 # growth exponent of the cost is fitted at the end.
 # Usage: scripts/bench-packing.sh [BUILD_DIR] [N ...]
@@ -14,8 +15,8 @@ mkdir -p "$(dirname "$out")"
 [ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed" >"$out"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-for mu in 0.1 1; do
-  for n in "${sizes[@]}"; do
+for n in "${sizes[@]}"; do
+  for mu in 0.1 1; do
     grep -q "^$n,$mu," "$out" && continue
     "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 -o "$work/p.unjam" --json --quiet >"$work/p.json" || true
     /usr/bin/python3 - "$work/p.json" "$n" "$mu" >>"$out" <<'PY'

@@ -19,15 +19,46 @@ make() {  # make NAME ARGS...
 }
 
 # Homogeneous packings at constant external pressure P_ext = 1, fully periodic.
-for mu in 0.5 1 10 0.1 0.01 0; do
+for mu in 0.5 1 10 0.1 0.01; do
   make "pressure-n500-mu$mu" --protocol pressure --n 500 --mu "$mu" --seed 1
 done
-make pressure-n3000-mu0.5 --protocol pressure --n 3000 --mu 0.5 --seed 1
+
+# The frictionless packing (and, below, N = 3000) is made by the previous protocol (quench and prove: steps from
+# rest solved to 1e-10), that of commit d757631, built in a temporary worktree. The current
+# protocol's certificate does not bring a frictionless N = 500 packing to a rigid state:
+# loose NSGS dynamics stalls in a hypostatic state carried by its own unconverged impulses
+# (docs/performance.md). The file passes today's static checks all the same
+# (tests/problems). Needs git and a few minutes of build.
+old_protocol=d757631
+old_unjam=""
+build_old_unjam() {
+  [ -n "$old_unjam" ] && return 0
+  old_tree="$(mktemp -d)"
+  git -C "$root" worktree add --detach "$old_tree/src" "$old_protocol" >/dev/null
+  cmake -S "$old_tree/src" -B "$old_tree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DUNJAM_BUILD_TESTS=OFF -DUNJAM_BUILD_BENCH=OFF >/dev/null
+  cmake --build "$old_tree/build" --target unjam >/dev/null
+  old_unjam="$old_tree/build/unjam"
+  trap 'git -C "$root" worktree remove --force "$old_tree/src"; rm -rf "$old_tree"' EXIT
+}
+make_old() {  # make_old NAME ARGS...: as make, with the unjam of $old_protocol
+  local name="$1"; shift
+  [[ -z "$pattern" || "$name" == *$pattern* ]] || return 0
+  [ -e "problems/$name.unjam" ] && { echo "keep problems/$name.unjam"; return 0; }
+  build_old_unjam
+  echo "make problems/$name.unjam: unjam ($old_protocol) pack $*"
+  "$old_unjam" pack "$@" -o "problems/$name.unjam" --json --quiet >"problems/logs/$name.json"
+}
+make_old pressure-n500-mu0 --protocol pressure --n 500 --mu 0 --seed 1
+# N = 3000 too, for now: the current protocol had not certified it after 15 000 steps
+# (900 s, 20 failed certificates); the previous one took 2116 s (docs/performance.md).
+make_old pressure-n3000-mu0.5 --protocol pressure --n 3000 --mu 0.5 --seed 1
 
 # Piles settled under gravity g = 1 on a rough bed, periodic in x, width 100.
-for mu in 0.1 1; do
-  make "gravity-n1600-mu$mu" --protocol gravity --n 1600 --mu "$mu" --width 100 --seed 1
-done
+# At mu = 1 the dynamics needs 2000 sweeps per step: with 500, unconverged steps leave
+# the tall pile under-supported and it creeps for ever (docs/performance.md).
+make gravity-n1600-mu0.1 --protocol gravity --n 1600 --mu 0.1 --width 100 --seed 1
+make gravity-n1600-mu1 --protocol gravity --n 1600 --mu 1 --width 100 --seed 1 --step-iter 2000
 
 # A small pile: quick to load and solve (examples, smoke tests).
 make gravity-n100-mu0.5 --protocol gravity --n 100 --width 15 --mu 0.5 --seed 1
