@@ -7,13 +7,6 @@ namespace unjam {
 
 namespace {
 constexpr double kDimension = 2.0;
-
-std::vector<char> Constrained(const Scene& scene) {
-  std::vector<char> constrained(scene.particles.size(), 0);
-  for (std::size_t i = 0; i < scene.particles.size(); ++i) constrained[i] = scene.particles[i].fixed;
-  for (const PrescribedMotion& m : scene.effects.prescribed_motion) constrained[m.particle] = 1;
-  return constrained;
-}
 }  // namespace
 
 EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact>& contacts,
@@ -40,12 +33,12 @@ EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact
     }
   }
   out.mean_contact_force = out.force_carrying_contacts > 0 ? sum_fn / out.force_carrying_contacts : 0.0;
-  const std::vector<char> constrained = Constrained(scene);
+  const std::vector<char> movable = MovableParticles(scene);
   double mean_radius = 0.0;
   for (const Particle& p : scene.particles) mean_radius += p.radius / n;
   const double scale = out.mean_contact_force > 0.0 ? out.mean_contact_force : 1.0;
   for (int i = 0; i < n; ++i) {
-    if (constrained[i]) continue;
+    if (!movable[i]) continue;
     Vec2 total = net[i];
     if (scene.effects.gravity) total += scene.particles[i].Mass() * *scene.effects.gravity;
     const double fi = total.norm() / scale;

@@ -29,10 +29,6 @@ AdmissibleForces NearestAdmissibleForces(const EquilibriumSystem& s, const Eigen
                                          const AdmissibleOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   AdmissibleForces out;
-  auto finish = [&](AdmissibleForces& r) -> AdmissibleForces {
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return r;
-  };
   std::optional<Eigen::VectorXd> projected;
   if (o.method != AdmissibleMethod::kLinearProgram) {
     projected = ProjectOntoAdmissible(s, reference, ClassifyRegions(s, reference, o.edge_tolerance), o.balance_tolerance);
@@ -62,7 +58,8 @@ AdmissibleForces NearestAdmissibleForces(const EquilibriumSystem& s, const Eigen
     out.message = "the projection found no admissible forces near the reference";
   }
   if (out.forces.size() > 0) out.balance_residual = BalanceResidual(s, out.forces);
-  return finish(out);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
 }
 
 }  // namespace unjam

@@ -10,13 +10,6 @@ namespace {
 
 constexpr double kDimension = 2.0;
 
-std::vector<char> FreeParticles(const Scene& scene) {
-  std::vector<char> free(scene.particles.size(), 1);
-  for (std::size_t i = 0; i < scene.particles.size(); ++i) free[i] = !scene.particles[i].fixed;
-  for (const PrescribedMotion& m : scene.effects.prescribed_motion) free[m.particle] = 0;
-  return free;
-}
-
 // Rows of particle i: force x, force y and (with friction) torque; −1 if it need not balance.
 std::vector<int> NumberRows(const Scene& scene, const std::vector<char>& free,
                             const std::vector<int>& contact_count, int per_particle,
@@ -38,7 +31,7 @@ EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSy
   EquilibriumSystem out;
   out.frictional = scene.effects.Frictional();
   out.mu = scene.effects.friction;
-  const std::vector<char> free = FreeParticles(scene);
+  const std::vector<char> free = MovableParticles(scene);
   std::vector<int> contact_count(scene.particles.size(), 0);
   for (Contact& c : DetectContacts(scene, o.margin)) {
     const bool moves = free[c.i] || (!c.WithWall() && free[c.j]);
@@ -105,17 +98,12 @@ EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSy
 }
 
 Eigen::VectorXd StoredForcesOf(const EquilibriumSystem& system, const std::vector<ContactForce>& stored) {
-  auto key = [](const ContactForce& f) { return std::tie(f.i, f.j, f.image); };
-  std::vector<ContactForce> sorted = stored;
-  std::sort(sorted.begin(), sorted.end(), [&](const ContactForce& a, const ContactForce& b) { return key(a) < key(b); });
+  const ForcesByContact lookup(stored);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(system.NumUnknowns());
   const int stride = system.UnknownsPerContact();
   for (int k = 0; k < static_cast<int>(system.contacts.size()); ++k) {
-    const Contact& c = system.contacts[k];
-    const ContactForce probe{c.i, c.j, c.image, 0.0, 0.0};
-    auto it = std::lower_bound(sorted.begin(), sorted.end(), probe,
-                               [&](const ContactForce& a, const ContactForce& b) { return key(a) < key(b); });
-    if (it == sorted.end() || key(*it) != key(probe)) continue;
+    const ContactForce* it = lookup.Find(system.contacts[k]);
+    if (it == nullptr) continue;
     f[stride * k] = it->normal;
     if (system.frictional) f[stride * k + 1] = it->tangential;
   }

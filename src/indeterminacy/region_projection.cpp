@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
 #include "unjam/indeterminacy/admissible_forces.hpp"
+#include "unjam/indeterminacy/least_norm.hpp"
 
 namespace unjam::indeterminacy_internal {
 
@@ -90,20 +90,16 @@ int UpdateRegions(const EquilibriumSystem& s, const Eigen::VectorXd& f, std::vec
 std::optional<Eigen::VectorXd> CorrectWithinRegions(const EquilibriumSystem& s, const Eigen::VectorXd& reference,
                                                     const std::vector<Region>& regions) {
   const Directions d = FreeDirections(s, reference, regions);
-  const Eigen::SparseMatrix<double> b = s.matrix * d.matrix;
-  Eigen::SparseMatrix<double> normal = b * b.transpose();
-  // A particle whose rows are dependent (too few contacts) makes B Bᵀ singular: a tiny
-  // ridge gives the least-squares correction, and the balance check then fails honestly.
-  Eigen::SparseMatrix<double> ridge(normal.rows(), normal.cols());
-  ridge.setIdentity();
-  normal += 1e-12 * std::max(1.0, normal.diagonal().mean()) * ridge;
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt(normal);
-  if (llt.info() != Eigen::Success) return std::nullopt;
+  // A particle whose rows are dependent (too few contacts) makes B Bᵀ singular: the
+  // solver's ridge gives the least-squares correction, and the balance check then fails
+  // honestly.
+  const LeastNormSolver least_norm(s.matrix * d.matrix, 1e-12);
+  if (!least_norm.ok()) return std::nullopt;
   Eigen::VectorXd f = d.base;
   for (int refinement = 0; refinement < 3; ++refinement) {
-    const Eigen::VectorXd y = llt.solve(s.load - s.matrix * f);
-    if (!y.allFinite()) return std::nullopt;
-    f += d.matrix * (b.transpose() * y);
+    const Eigen::VectorXd step = least_norm.Solve(s.load - s.matrix * f);
+    if (!step.allFinite()) return std::nullopt;
+    f += d.matrix * step;
   }
   return f;
 }

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
 #include "unjam/contacts/contact.hpp"
+#include "unjam/indeterminacy/least_norm.hpp"
 
 namespace unjam {
 
@@ -20,11 +20,10 @@ Contact Geometry(const Scene& scene, const ContactKey& key) {
 // Columns of G: (x, y) of every movable particle, then ε if the cell is a degree of freedom.
 std::vector<int> NumberColumns(const Scene& scene, int& columns) {
   std::vector<int> column(scene.particles.size(), -1);
-  std::vector<char> moves(scene.particles.size(), 1);
-  for (const PrescribedMotion& m : scene.effects.prescribed_motion) moves[m.particle] = 0;
+  const std::vector<char> movable = MovableParticles(scene);
   columns = 0;
   for (std::size_t i = 0; i < scene.particles.size(); ++i) {
-    if (scene.particles[i].fixed || !moves[i]) continue;
+    if (!movable[i]) continue;
     column[i] = columns;
     columns += 2;
   }
@@ -65,13 +64,9 @@ ClosureReport CloseContacts(Scene& scene, const std::vector<ContactKey>& keys, c
     }
     Eigen::SparseMatrix<double> g(static_cast<int>(keys.size()), columns);
     g.setFromTriplets(t.begin(), t.end());
-    Eigen::SparseMatrix<double> normal = g * g.transpose();
-    Eigen::SparseMatrix<double> ridge(normal.rows(), normal.cols());
-    ridge.setIdentity();
-    normal += 1e-14 * std::max(1.0, normal.diagonal().mean()) * ridge;
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt(normal);
-    if (llt.info() != Eigen::Success) break;
-    const Eigen::VectorXd delta = g.transpose() * llt.solve(-gaps);
+    const LeastNormSolver least_norm(g, 1e-14);
+    if (!least_norm.ok()) break;
+    const Eigen::VectorXd delta = least_norm.Solve(-gaps);
     if (!delta.allFinite()) break;
     const double strain = cell_moves ? delta[cell_column] : 0.0;
     for (std::size_t i = 0; i < scene.particles.size(); ++i) {

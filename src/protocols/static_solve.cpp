@@ -1,7 +1,6 @@
 #include "unjam/protocols/static_solve.hpp"
 
 #include <algorithm>
-#include <tuple>
 
 #include "unjam/problem/assembly.hpp"
 #include "unjam/problem/kinematics.hpp"
@@ -26,16 +25,10 @@ Eigen::VectorXd StoredForcesGuess(const Scene& scene, const std::vector<Contact>
   const ContactProblem& p = assembled.problem;
   Eigen::VectorXd guess = Eigen::VectorXd::Zero(p.NumUnknowns());
   if (scene.forces.empty()) return guess;
-  std::vector<ContactForce> stored = scene.forces;
-  auto key_less = [](const ContactForce& a, const ContactForce& b) {
-    return std::tie(a.i, a.j, a.image) < std::tie(b.i, b.j, b.image);
-  };
-  std::sort(stored.begin(), stored.end(), key_less);
+  const ForcesByContact stored(scene.forces);
   for (int k = 0; k < p.NumContacts(); ++k) {
-    const Contact& c = contacts[assembled.source_contact[k]];
-    const ContactForce probe{c.i, c.j, c.image, 0.0, 0.0};
-    auto it = std::lower_bound(stored.begin(), stored.end(), probe, key_less);
-    if (it == stored.end() || key_less(probe, *it)) continue;
+    const ContactForce* it = stored.Find(contacts[assembled.source_contact[k]]);
+    if (it == nullptr) continue;
     guess[k * p.UnknownsPerContact()] = dt * it->normal;
     if (p.frictional) guess[2 * k + 1] = dt * it->tangential;
   }

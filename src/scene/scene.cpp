@@ -11,6 +11,13 @@ double MaxRadius(const Scene& scene) {
   return r;
 }
 
+std::vector<char> MovableParticles(const Scene& scene) {
+  std::vector<char> movable(scene.particles.size(), 1);
+  for (std::size_t i = 0; i < scene.particles.size(); ++i) movable[i] = !scene.particles[i].fixed;
+  for (const PrescribedMotion& m : scene.effects.prescribed_motion) movable[m.particle] = 0;
+  return movable;
+}
+
 double PackingFraction(const Scene& scene) {
   if (scene.particles.empty()) return 0.0;
   double area = 0.0;

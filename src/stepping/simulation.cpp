@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 
 #include "unjam/problem/kinematics.hpp"
 
@@ -119,8 +118,7 @@ std::vector<ContactForce> Simulation::WarmStartImpulses() const {
 
 void Simulation::RestoreWarmStart(const std::vector<ContactForce>& impulses) {
   std::vector<ContactForce> sorted = impulses;
-  auto key = [](const ContactForce& f) { return std::tie(f.i, f.j, f.image); };
-  std::sort(sorted.begin(), sorted.end(), [&](const ContactForce& a, const ContactForce& b) { return key(a) < key(b); });
+  std::sort(sorted.begin(), sorted.end(), ForceKeyLess);  // the order WarmStart merges in
   contacts_.clear();
   impulses_.clear();
   for (const ContactForce& f : sorted) {
@@ -134,13 +132,11 @@ void Simulation::RestoreWarmStart(const std::vector<ContactForce>& impulses) {
 }
 
 std::vector<ContactForce> LastStepForces(const Simulation& sim) {
-  std::vector<ContactForce> forces;
+  std::vector<ContactForce> forces = sim.WarmStartImpulses();
   const double dt = sim.options().dt;
-  for (std::size_t k = 0; k < sim.contacts().size(); ++k) {
-    const Eigen::Vector2d& r = sim.impulses()[k];
-    if (r[0] == 0.0 && r[1] == 0.0) continue;
-    const Contact& c = sim.contacts()[k];
-    forces.push_back({c.i, c.j, c.image, r[0] / dt, r[1] / dt});
+  for (ContactForce& f : forces) {
+    f.normal /= dt;
+    f.tangential /= dt;
   }
   return forces;
 }

@@ -41,7 +41,9 @@ TEST(GravityPile, LoosePileStartsAboveTheBedAtRest) {
   int fixed = 0;
   for (const Particle& p : s.particles) {
     fixed += p.fixed;
-    if (!p.fixed) EXPECT_GT(p.position.y() - p.radius, 2.0);
+    if (!p.fixed) {
+      EXPECT_GT(p.position.y() - p.radius, 2.0);
+    }
     EXPECT_EQ(p.velocity, Vec2::Zero());
   }
   EXPECT_GT(fixed, 10);

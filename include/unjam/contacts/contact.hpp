@@ -5,7 +5,9 @@
 // j = WallIndexToJ(w) and n = −wall normal.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <utility>
 #include <vector>
 
 #include "unjam/scene/scene.hpp"
@@ -34,6 +36,29 @@ inline bool ContactKeyLess(const Contact& a, const Contact& b) {
 inline bool SameContactKey(const Contact& a, const Contact& b) {
   return a.i == b.i && a.j == b.j && a.image == b.image;
 }
+inline bool ForceKeyLess(const ContactForce& a, const ContactForce& b) {
+  if (a.i != b.i) return a.i < b.i;
+  if (a.j != b.j) return a.j < b.j;
+  return a.image < b.image;
+}
+
+// Forces (stored, saved, or a reference) looked up by the key of a contact: sorted once,
+// each lookup O(log n).
+class ForcesByContact {
+ public:
+  explicit ForcesByContact(std::vector<ContactForce> forces) : sorted_(std::move(forces)) {
+    std::sort(sorted_.begin(), sorted_.end(), ForceKeyLess);
+  }
+  // The force of contact c, or nullptr if none is stored.
+  const ContactForce* Find(const Contact& c) const {
+    const ContactForce probe{c.i, c.j, c.image, 0.0, 0.0};
+    auto it = std::lower_bound(sorted_.begin(), sorted_.end(), probe, ForceKeyLess);
+    return it == sorted_.end() || ForceKeyLess(probe, *it) ? nullptr : &*it;
+  }
+
+ private:
+  std::vector<ContactForce> sorted_;
+};
 
 // All pairs (and disk–wall pairs) whose gap is below `margin`, sorted by ContactKeyLess,
 // each pair once with i < j for disk pairs. Pairs of two fixed disks are skipped.

@@ -118,6 +118,9 @@ inline int WallIndexToJ(int wall) { return -1 - wall; }
 inline int JToWallIndex(int j) { return -1 - j; }
 
 double MaxRadius(const Scene& scene);
+// Per particle: 1 if it moves under the contact forces (neither fixed nor given a
+// prescribed motion), 0 otherwise.
+std::vector<char> MovableParticles(const Scene& scene);
 // Disk area (free and fixed) over the cell area; when y is not periodic (a pile), over the
 // width times the height spanned by the disks, bottom of the lowest to top of the highest.
 double PackingFraction(const Scene& scene);
