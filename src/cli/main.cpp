@@ -8,6 +8,7 @@
 
 #include "cli_common.hpp"
 #include "command_pack.hpp"
+#include "command_perturb.hpp"
 #include "unjam/io/packing_file.hpp"
 
 namespace {
@@ -38,6 +39,10 @@ int Run(int argc, char** argv) {
   CLI::App* pack = app.add_subcommand("pack", "make a static packing and save it with its forces");
   pack_flags.Register(*pack);
 
+  PerturbFlags perturb_flags;
+  CLI::App* perturb = app.add_subcommand("perturb", "open contacts or shift particles of a static packing, one by one, and measure the response");
+  perturb_flags.Register(*perturb);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -52,6 +57,7 @@ int Run(int argc, char** argv) {
     if (*info) return RunInfo(info_file, info_json);
     if (*solve) return RunSolve(solve_file, solver, solve_json, solve_list, solve_output);
     if (*pack) return RunPack(pack_flags);
+    if (*perturb) return RunPerturb(perturb_flags);
     return RunMainJob();
   } catch (const unjam::InputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

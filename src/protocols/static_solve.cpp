@@ -34,6 +34,19 @@ Eigen::VectorXd StoredForcesGuess(const Scene& scene, const std::vector<Contact>
   }
   return guess;
 }
+void RecordMotion(const AssembledProblem& assembled, const VelocityState& v, double dt,
+                  StaticSolution& out) {
+  const std::size_t n = assembled.body_of_particle.size();
+  out.displacement.assign(n, Vec2::Zero());
+  out.rotation.assign(n, 0.0);
+  for (std::size_t b = 0; b < v.body.size(); ++b) {
+    const int i = assembled.particle_of_body[b];
+    out.displacement[i] = dt * v.body[b].head<2>();
+    if (assembled.problem.frictional) out.rotation[i] = dt * v.body[b][2];
+    out.max_speed = std::max(out.max_speed, v.body[b].head<2>().norm());
+  }
+  out.cell_strain = assembled.problem.cell ? dt * v.cell_rate : 0.0;
+}
 }  // namespace
 
 StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options) {
@@ -56,8 +69,7 @@ StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options
     out.forces[assembled.source_contact[k]] = Eigen::Vector2d(
         result.impulses[k * stride], stride == 2 ? result.impulses[k * stride + 1] : 0.0) / options.dt;
   }
-  const VelocityState v = EndVelocityState(p, result.impulses);
-  for (const Eigen::Vector3d& b : v.body) out.max_speed = std::max(out.max_speed, b.head<2>().norm());
+  RecordMotion(assembled, EndVelocityState(p, result.impulses), options.dt, out);
   out.equilibrium = CheckEquilibrium(rest, out.contacts, out.forces);
   return out;
 }

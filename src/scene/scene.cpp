@@ -48,4 +48,10 @@ void WrapPositions(Scene& scene) {
   }
 }
 
+Vec2 MinimumImage(const Cell& cell, Vec2 v) {
+  if (PeriodicX(cell.periodicity)) v.x() -= cell.size.x() * std::round(v.x() / cell.size.x());
+  if (PeriodicY(cell.periodicity)) v.y() -= cell.size.y() * std::round(v.y() / cell.size.y());
+  return v;
+}
+
 }  // namespace unjam

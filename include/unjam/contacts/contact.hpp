@@ -22,7 +22,7 @@ struct Contact {
   double gap = 0.0;
   Vec2 branch_i = Vec2::Zero();        // centre of i to the contact point (= R_i n)
   Vec2 branch_j = Vec2::Zero();        // centre of j to the contact point (= −R_j n; zero for a wall)
-  Vec2 center_to_center = Vec2::Zero();// x_j + shift − x_i (minimum image); for a wall, 2 R_i n + gap n
+  Vec2 center_to_center = Vec2::Zero();// x_j + shift − x_i (minimum image); for a wall, (R_i + gap) n
 
   bool WithWall() const { return IsWallIndex(j); }
 };

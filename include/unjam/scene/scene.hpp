@@ -126,5 +126,7 @@ std::vector<char> MovableParticles(const Scene& scene);
 double PackingFraction(const Scene& scene);
 // Wraps positions into the cell along periodic axes.
 void WrapPositions(Scene& scene);
+// The vector v at its shortest periodic image (separations, displacements from a point).
+Vec2 MinimumImage(const Cell& cell, Vec2 v);
 
 }  // namespace unjam

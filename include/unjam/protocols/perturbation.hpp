@@ -1,0 +1,135 @@
+// Local perturbations of a static packing, each one contact-dynamics step from the same
+// static state (docs/perturbations.md):
+//   - contact opening: contact K is held open at a gap ξ (a bilateral, frictionless
+//     constraint); every other contact keeps Signorini–Coulomb. The force on K is the
+//     critical force F_crit (positive = pushing the two grains apart, like a contact force).
+//   - particle shift: particle P is moved by ξ along a direction ŝ (prescribed motion for
+//     one step). F_crit = −ŝ·Σ f (the contact forces on P): positive when the packing
+//     resists the shift.
+// The step is quasi-static: its Δt (default 1) makes the inertial forces m ξ/Δt² negligible
+// next to the contact forces, so F_crit does not depend on Δt or ξ, and the displacements
+// are proportional to ξ. The step is solved to a tolerance proportional to ξ.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "unjam/contacts/contact.hpp"
+#include "unjam/scene/scene.hpp"
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+// What happens to the periodic cell during a contact opening.
+enum class CellCondition { kFixedPressure, kFixedVolume };
+const char* ToString(CellCondition condition);
+CellCondition CellConditionFromString(const std::string& name);  // throws std::invalid_argument
+
+struct PerturbationOptions {
+  double gap = 1e-9;                    // ξ, length units
+  double dt = 1.0;                      // the quasi-static step
+  CellCondition cell = CellCondition::kFixedPressure;
+  // Contacts are those of the static state with gap < margin; gaps below
+  // closed_gap_tolerance count as exactly closed. Both well below ξ.
+  double margin = 1e-6;
+  double closed_gap_tolerance = 1e-12;
+  std::string backend = "nsgs";
+  SolverOptions solver;                 // its tolerance is replaced, see SolverToleranceFor
+  // Wanted accuracy of the displacements, as a fraction of ξ (see SolverToleranceFor).
+  double response_tolerance = 1e-2;
+  double solver_tolerance = 0.0;        // > 0: use this solver tolerance instead
+  // The response counts as quasi-static when the largest inertial force m|d|/Δt² is below
+  // this fraction of the mean contact force.
+  double max_inertia_ratio = 1e-6;
+};
+void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
+
+// One perturbation's target: a contact (by key) or a particle and a shift direction.
+struct PerturbationTarget {
+  enum class Kind { kContactOpening, kParticleShift } kind = Kind::kContactOpening;
+  int i = -1, j = -1;                   // contact: its key; shift: i = the particle
+  std::array<int, 2> image = {0, 0};
+  Vec2 direction = Vec2(0.0, -1.0);     // shift direction ŝ (unit)
+};
+
+struct ContactForceChange {
+  int i = -1, j = -1;
+  std::array<int, 2> image = {0, 0};
+  Vec2 point = Vec2::Zero();            // contact point (periodic: as seen from i)
+  Vec2 normal = Vec2(1.0, 0.0);         // from i to j
+  Vec2 branch = Vec2::Zero();           // centre-to-centre vector l (periodic image included)
+  double normal_before = 0.0, normal_after = 0.0;
+  double tangential_before = 0.0, tangential_after = 0.0;
+};
+
+struct PerturbationResult {
+  PerturbationTarget target;
+  Vec2 origin = Vec2::Zero();           // the contact point, or the shifted particle's centre
+  Vec2 axis = Vec2(1.0, 0.0);           // the contact normal, or the vertical (0, 1)
+  double f_crit = 0.0;
+  double f_reference = 0.0;             // F_cont (opening) or F_y, the effective weight (shift)
+  std::vector<Vec2> displacement;       // per particle (non-affine part under a pressure bath)
+  std::vector<double> rotation;         // per particle
+  std::vector<ContactForceChange> force_changes;  // every contact of the union of both states
+  double penetration_depth = 0.0;       // δ = Σ|d_i| |r_i·n| / Σ|d_i|
+  double cell_strain = 0.0;             // λ = ΔL/L (fixed pressure)
+  double pressure_change = 0.0;         // P_after − P_before from the virial (periodic cells)
+  double inertia_ratio = 0.0;           // max_i m_i |d_i| / Δt² over the mean contact force
+  double equilibrium_residual = 0.0;    // of the perturbed forces, free particles
+  SolveReport solve;
+  bool quasi_static = false;            // inertia_ratio ≤ max_inertia_ratio
+  // Converged, quasi-static: a result to use. Otherwise `status` says why not.
+  bool ok() const { return solve.converged() && quasi_static; }
+  std::string status;                   // "ok", "not-converged", "dynamic"
+  double seconds = 0.0;
+};
+
+// The static packing a set of perturbations starts from: the scene at rest with its
+// stored forces (which must be static: checked once, see PreparePerturbations).
+struct PerturbationBase {
+  Scene scene;                          // velocities zero, forces stored
+  std::vector<Contact> contacts;        // with gap < margin
+  std::vector<Eigen::Vector2d> forces;  // stored static forces per contact (0 if none)
+  double mean_contact_force = 0.0;
+  double pressure = 0.0;                // virial pressure of the static forces (periodic)
+  double mean_radius = 0.0;
+  double mean_mass = 0.0;               // of the free particles
+};
+
+// The unjam residual is an impulse error over the mean impulse F̄Δt (docs/residual.md). A
+// normal velocity error δu costs ρ δu with ρ ≈ m̄/2, and becomes a displacement error
+// Δt δu. Displacements accurate to response_tolerance · ξ thus need
+//     residual ≤ response_tolerance · ξ · (m̄/2) / (F̄ Δt²).
+double SolverToleranceFor(const PerturbationOptions& options, const PerturbationBase& base);
+
+// Throws std::invalid_argument if the scene stores no forces.
+PerturbationBase PreparePerturbations(const Scene& static_scene, const PerturbationOptions& options);
+
+PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarget& target,
+                           const PerturbationOptions& options);
+
+// Targets. Force-carrying contacts between two particles (fixed ones included), in the
+// order of the stored forces; a sample is drawn without replacement, deterministically
+// from the seed, and kept in that order.
+std::vector<PerturbationTarget> ContactTargets(const PerturbationBase& base);
+std::vector<PerturbationTarget> SampleTargets(std::vector<PerturbationTarget> all, int count,
+                                              std::uint64_t seed);
+// Gravity packings: the width is cut into bins of about one mean diameter; per bin the free
+// particle with the highest centre (top, shifted down) or the lowest (bottom, shifted up).
+std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base);
+std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base);
+
+// Runs the targets on `threads` threads; result k belongs to target k, whatever the
+// thread count (each perturbation is deterministic). `on_result` (may be empty) is called
+// in target order as results complete, from the calling thread.
+std::vector<PerturbationResult> PerturbAll(
+    const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
+    const PerturbationOptions& options, int threads,
+    const std::function<void(int, const PerturbationResult&)>& on_result = {});
+
+}  // namespace unjam

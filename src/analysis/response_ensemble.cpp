@@ -1,0 +1,259 @@
+#include "unjam/analysis/response_ensemble.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace unjam {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Coordinates in the frame with x along `axis`.
+Vec2 ToFrame(Vec2 axis, Vec2 v) { return Vec2(v.dot(axis), v.dot(Perp(axis))); }
+
+// A square grid of an odd number of boxes centred on the origin: the perturbation point is
+// the centre of the middle box.
+GridSpec CenteredGrid(double window, double side) {
+  const int half = std::max(0, static_cast<int>(std::floor((window - 0.5 * side) / side)));
+  GridSpec g;
+  g.nx = g.ny = 2 * half + 1;
+  g.side = Vec2(side, side);
+  g.origin = Vec2(-0.5 * g.nx * side, -0.5 * g.ny * side);
+  return g;
+}
+
+int BoxOf(const GridSpec& g, Vec2 p) {
+  const int ix = static_cast<int>(std::floor((p.x() - g.origin.x()) / g.side.x()));
+  const int iy = static_cast<int>(std::floor((p.y() - g.origin.y()) / g.side.y()));
+  if (ix < 0 || iy < 0 || ix >= g.nx || iy >= g.ny) return -1;
+  return iy * g.nx + ix;
+}
+
+std::vector<double> BinMeans(const std::vector<double>& r, const std::vector<double>& v,
+                             const ResponseLayout& layout) {
+  std::vector<double> out;
+  for (const LogBin& b : LogBinned(r, v, layout.profile_min, layout.profile_max, layout.bins_per_decade)) {
+    out.push_back(b.count > 0 ? b.mean : kNaN);
+  }
+  return out;
+}
+
+bool IsPerturbedContact(const PerturbationTarget& t, const ContactForceChange& c) {
+  return t.kind == PerturbationTarget::Kind::kContactOpening && c.i == t.i && c.j == t.j &&
+         c.image == t.image;
+}
+
+void ReduceDisplacements(const PerturbationBase& base, const PerturbationResult& result,
+                         const ResponseLayout& layout, ReducedResponse& out) {
+  std::vector<double> r, magnitude;
+  out.field.assign(2 * layout.field.nx * layout.field.ny, 0.0);
+  out.field_count.assign(layout.field.nx * layout.field.ny, 0);
+  const std::vector<char> movable = MovableParticles(base.scene);
+  for (std::size_t i = 0; i < result.displacement.size(); ++i) {
+    if (!movable[i]) continue;
+    const bool shifted = result.target.kind == PerturbationTarget::Kind::kParticleShift &&
+                         static_cast<int>(i) == result.target.i;
+    if (shifted) continue;
+    const Vec2 rel = ToFrame(result.axis, MinimumImage(base.scene.cell, base.scene.particles[i].position - result.origin));
+    const Vec2 d = ToFrame(result.axis, result.displacement[i]) / layout.gap;
+    r.push_back(rel.norm());
+    magnitude.push_back(d.norm());
+    const int box = BoxOf(layout.field, rel);
+    if (box < 0) continue;
+    out.field[2 * box] += d.x();
+    out.field[2 * box + 1] += d.y();
+    ++out.field_count[box];
+  }
+  out.displacement_profile = BinMeans(r, magnitude, layout);
+}
+
+void ReduceForces(const PerturbationBase& base, const PerturbationResult& result,
+                  const ResponseLayout& layout, ReducedResponse& out) {
+  std::vector<double> r, change;
+  std::vector<StressSegment> segments;
+  for (const ContactForceChange& c : result.force_changes) {
+    const double dn = c.normal_after - c.normal_before;
+    const double dt = c.tangential_after - c.tangential_before;
+    if (!IsPerturbedContact(result.target, c)) {
+      r.push_back(MinimumImage(base.scene.cell, c.point - result.origin).norm());
+      change.push_back(std::abs(dn));
+    }
+    if (dn == 0.0 && dt == 0.0) continue;
+    const Vec2 start = MinimumImage(base.scene.cell, base.scene.particles[c.i].position - result.origin);
+    const Vec2 force = dn * c.normal + dt * Perp(c.normal);
+    segments.push_back({ToFrame(result.axis, start), ToFrame(result.axis, c.branch), ToFrame(result.axis, force)});
+  }
+  out.force_profile = BinMeans(r, change, layout);
+  const StressGrid grid = CoarseGrainedStress(layout.stress, segments);
+  out.stress.clear();
+  for (const Eigen::Matrix2d& s : grid.stress) {
+    out.stress.insert(out.stress.end(), {s(0, 0), s(0, 1), s(1, 1)});
+  }
+}
+
+// Profiles averaged over perturbations, bin by bin, skipping perturbations without
+// particles in the bin.
+std::vector<LogBin> AverageProfiles(const std::vector<const std::vector<double>*>& profiles,
+                                    const ResponseLayout& layout) {
+  std::vector<LogBin> bins = LogBinned({}, {}, layout.profile_min, layout.profile_max, layout.bins_per_decade);
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    std::vector<double> samples;
+    for (const std::vector<double>* p : profiles) {
+      if (b < p->size() && std::isfinite((*p)[b])) samples.push_back((*p)[b]);
+    }
+    const MeanAndError m = MeanWithError(samples);
+    bins[b].r_mean = std::sqrt(bins[b].r_low * bins[b].r_high);
+    bins[b].mean = m.mean;
+    bins[b].error = m.error;
+    bins[b].count = m.count;
+  }
+  return bins;
+}
+
+// Error of the ratio of two means of paired samples: the standard error of a − R b over ⟨b⟩.
+double RatioError(const std::vector<double>& a, const std::vector<double>& b, double ratio, double mean_b) {
+  std::vector<double> z(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) z[k] = a[k] - ratio * b[k];
+  return mean_b != 0.0 ? MeanWithError(z).error / std::abs(mean_b) : kNaN;
+}
+
+Histogram HistogramOf(const std::vector<double>& samples, double scale, int bins) {
+  std::vector<double> scaled;
+  double top = 0.0;
+  for (double s : samples) {
+    scaled.push_back(s / scale);
+    top = std::max(top, s / scale);
+  }
+  const double low = std::min(0.0, *std::min_element(scaled.begin(), scaled.end()));
+  return MakeHistogram(scaled, low, std::nextafter(top, std::numeric_limits<double>::infinity()), bins);
+}
+
+void SummarizeFields(const std::vector<const ReducedResponse*>& used, const ResponseLayout& layout,
+                     EnsembleSummary& out) {
+  const int boxes = layout.field.nx * layout.field.ny;
+  out.field.assign(boxes, {});
+  for (int b = 0; b < boxes; ++b) {
+    Vec2 sum = Vec2::Zero();
+    for (const ReducedResponse* r : used) {
+      sum += Vec2(r->field[2 * b], r->field[2 * b + 1]);
+      out.field[b].count += r->field_count[b];
+    }
+    const int ix = b % layout.field.nx, iy = b / layout.field.nx;
+    out.field[b].center = layout.field.origin + Vec2((ix + 0.5) * layout.field.side.x(), (iy + 0.5) * layout.field.side.y());
+    if (out.field[b].count > 0) out.field[b].mean = sum / out.field[b].count;
+  }
+  const int stress_boxes = layout.stress.nx * layout.stress.ny;
+  out.stress.assign(stress_boxes, {});
+  for (int b = 0; b < stress_boxes; ++b) {
+    StressBox& box = out.stress[b];
+    for (const ReducedResponse* r : used) {
+      box.mean += Eigen::Matrix2d{{r->stress[3 * b], r->stress[3 * b + 1]}, {r->stress[3 * b + 1], r->stress[3 * b + 2]}};
+    }
+    if (!used.empty()) box.mean /= static_cast<double>(used.size());
+    const int ix = b % layout.stress.nx, iy = b / layout.stress.nx;
+    box.center = layout.stress.origin + Vec2((ix + 0.5) * layout.stress.side.x(), (iy + 0.5) * layout.stress.side.y());
+    box.pressure_change = Pressure(box.mean);
+    box.max_shear = MaxShear(box.mean);
+    const double p = std::abs(box.pressure_change);
+    box.shear_angle = box.max_shear <= p && p > 0.0 ? std::asin(box.max_shear / p) : kNaN;
+  }
+}
+
+}  // namespace
+
+ResponseLayout MakeLayout(const PerturbationBase& base, const EnsembleOptions& options, double gap) {
+  ResponseLayout layout;
+  layout.gap = gap;
+  const Cell& cell = base.scene.cell;
+  if (PeriodicY(cell.periodicity)) layout.window = 0.5 * std::min(cell.size.x(), cell.size.y());
+  else if (PeriodicX(cell.periodicity)) layout.window = 0.5 * cell.size.x();
+  else layout.window = 0.5 * std::max(cell.size.x(), cell.size.y());
+  layout.profile_min = options.profile_min;
+  layout.profile_max = std::max(layout.window, 1.01 * options.profile_min);
+  layout.bins_per_decade = options.bins_per_decade;
+  layout.field = CenteredGrid(layout.window, options.field_box);
+  layout.stress = CenteredGrid(layout.window, options.stress_box);
+  layout.mean_contact_force = base.mean_contact_force;
+  if (base.scene.effects.pressure_bath) layout.f0 = 2.0 * base.mean_radius * base.scene.effects.pressure_bath->pressure;
+  return layout;
+}
+
+ReducedResponse Reduce(const PerturbationBase& base, const PerturbationResult& result,
+                       const ResponseLayout& layout, const EnsembleOptions& options) {
+  ReducedResponse out;
+  out.target = result.target;
+  out.origin = result.origin;
+  out.axis = result.axis;
+  out.f_crit = result.f_crit;
+  out.f_reference = result.f_reference;
+  out.penetration_depth = result.penetration_depth;
+  out.cell_strain = result.cell_strain;
+  out.pressure_change = result.pressure_change;
+  out.inertia_ratio = result.inertia_ratio;
+  out.equilibrium_residual = result.equilibrium_residual;
+  out.residual = result.solve.residual;
+  out.iterations = result.solve.iterations;
+  out.seconds = result.seconds;
+  out.status = result.status;
+  out.rattler = result.target.kind == PerturbationTarget::Kind::kParticleShift &&
+                result.target.direction.y() > 0.0 &&
+                result.f_crit < options.rattler_force * layout.mean_contact_force;
+  ReduceDisplacements(base, result, layout, out);
+  ReduceForces(base, result, layout, out);
+  return out;
+}
+
+EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const ResponseLayout& layout,
+                          const EnsembleOptions& options) {
+  EnsembleSummary out;
+  out.perturbations = static_cast<int>(records.size());
+  out.f0 = layout.f0;
+  std::vector<const ReducedResponse*> used;
+  std::vector<double> fc, fr, delta;
+  for (const ReducedResponse& r : records) {
+    if (r.status == "not-converged") ++out.not_converged;
+    if (r.status == "dynamic") ++out.dynamic;
+    if (r.status == "ok" && r.rattler) ++out.rattlers;
+    if (!r.Used()) continue;
+    used.push_back(&r);
+    fc.push_back(r.f_crit);
+    fr.push_back(r.f_reference);
+    delta.push_back(r.penetration_depth);
+  }
+  out.used = static_cast<int>(used.size());
+  out.f_crit = MeanWithError(fc);
+  out.f_reference = MeanWithError(fr);
+  out.penetration_depth = MeanWithError(delta);
+  out.ratio = out.f_reference.mean != 0.0 ? out.f_crit.mean / out.f_reference.mean : kNaN;
+  out.ratio_error = RatioError(fc, fr, out.ratio, out.f_reference.mean);
+  out.corr_fcrit_delta = PearsonCorrelation(fc, delta);
+  out.corr_freference_delta = PearsonCorrelation(fr, delta);
+  out.corr_fcrit_freference = PearsonCorrelation(fc, fr);
+
+  std::vector<const std::vector<double>*> d_profiles, f_profiles;
+  for (const ReducedResponse* r : used) {
+    d_profiles.push_back(&r->displacement_profile);
+    f_profiles.push_back(&r->force_profile);
+  }
+  out.displacement_profile = AverageProfiles(d_profiles, layout);
+  out.force_profile = AverageProfiles(f_profiles, layout);
+  const double fit_max = options.fit_max > 0.0 ? options.fit_max : 0.5 * layout.window;
+  out.decay = FitPowerLaw(out.displacement_profile, options.fit_min, fit_max);
+
+  if (!fc.empty()) {
+    out.fcrit_raw = HistogramOf(fc, 1.0, options.histogram_bins);
+    if (layout.f0 > 0.0) out.fcrit_over_f0 = HistogramOf(fc, layout.f0, options.histogram_bins);
+    if (out.f_crit.mean > 0.0) {
+      out.fcrit_over_mean = HistogramOf(fc, out.f_crit.mean, options.histogram_bins);
+      std::vector<double> normalised;
+      for (double f : fc) normalised.push_back(f / out.f_crit.mean);
+      out.fcrit_tail = FitExponentialTail(normalised, 1.0);
+    }
+  }
+  SummarizeFields(used, layout, out);
+  return out;
+}
+
+}  // namespace unjam

@@ -1,0 +1,342 @@
+// `unjam perturb FILE (--contact K | --all | --sample N | --top | --bottom) ...`
+#include "command_perturb.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "unjam/analysis/response_ensemble.hpp"
+#include "unjam/io/packing_file.hpp"
+#include "unjam/io/particle_export.hpp"
+#include "unjam/io/response_records.hpp"
+#include "unjam/protocols/perturbation.hpp"
+
+namespace unjam::cli {
+
+void PerturbFlags::Register(CLI::App& a) {
+  app = &a;
+  a.add_option("FILE", file, "static packing with stored forces (.unjam)")->required();
+  a.add_option("--contact", contact, "open the K-th force-carrying contact (0-based, in the file's force order)");
+  a.add_flag("--all", all, "open every force-carrying contact, one by one");
+  a.add_option("--sample", sample, "open N contacts drawn at random (see --seed)");
+  a.add_option("--seed", seed, "seed of --sample")->capture_default_str();
+  a.add_flag("--top", top, "gravity packings: push the highest particle of each bin down");
+  a.add_flag("--bottom", bottom, "gravity packings: push the lowest particle of each bin up");
+  a.add_option("--mode", mode, "contact opening: fixed-pressure or fixed-volume")->capture_default_str();
+  a.add_option("--gap", gap, "perturbation size xi (gap opened, or shift), length units")->capture_default_str();
+  a.add_option("--dt", dt, "time step of the quasi-static perturbation step")->capture_default_str();
+  a.add_option("--response-tol", response_tol, "solver tolerance as a fraction of xi (unless --tol)")->capture_default_str();
+  a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
+  solver.Register(a);
+  a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");
+  a.add_flag("--json", json, "one JSON object on stdout");
+  a.add_flag("--quiet", quiet, "no progress on stderr");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Selection {
+  std::vector<PerturbationTarget> targets;
+  std::string description;
+};
+
+Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
+  const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.top + f.bottom;
+  if (chosen != 1) throw std::invalid_argument("choose exactly one of --contact, --all, --sample, --top, --bottom");
+  const bool gravity = base.scene.effects.gravity.has_value() && PeriodicX(base.scene.cell.periodicity);
+  if ((f.top || f.bottom) && !gravity) throw std::invalid_argument("--top and --bottom need a gravity packing periodic in x");
+  if (f.top) return {TopTargets(base), "top"};
+  if (f.bottom) return {BottomTargets(base), "bottom"};
+  std::vector<PerturbationTarget> contacts = ContactTargets(base);
+  if (f.all) return {contacts, "all"};
+  if (f.sample) {
+    if (*f.sample < 1) throw std::invalid_argument("--sample: need at least 1 contact");
+    return {SampleTargets(contacts, *f.sample, f.seed), "sample " + std::to_string(*f.sample) + " seed " + std::to_string(f.seed)};
+  }
+  const int k = *f.contact;
+  if (k < 0 || k >= static_cast<int>(contacts.size())) {
+    throw std::invalid_argument("--contact " + std::to_string(k) + ": the packing has " + std::to_string(contacts.size()) +
+                                " force-carrying contacts (0.." + std::to_string(static_cast<int>(contacts.size()) - 1) + ")");
+  }
+  return {{contacts[k]}, "contact " + std::to_string(k)};
+}
+
+PerturbationOptions OptionsFrom(const PerturbFlags& f) {
+  PerturbationOptions o;
+  o.gap = f.gap;
+  o.dt = f.dt;
+  o.cell = CellConditionFromString(f.mode);
+  o.backend = f.solver.backend;
+  o.solver = f.solver.Resolve();
+  o.response_tolerance = f.response_tol;
+  if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
+  Validate(o);
+  return o;
+}
+
+// FNV-1a of the packing file: a resumed run must start from the same packing.
+std::string FileFingerprint(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::uint64_t h = 1469598103934665603ull;
+  char c;
+  while (in.get(c)) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+nlohmann::json Header(const PerturbFlags& f, const Selection& s, const PerturbationOptions& o,
+                      const PerturbationBase& base) {
+  return {{"unjam_perturb_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
+          {"packing_fnv1a", FileFingerprint(f.file)}, {"selection", s.description},
+          {"targets", s.targets.size()}, {"mode", ToString(o.cell)}, {"gap", o.gap}, {"dt", o.dt},
+          {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
+          {"max_iterations", o.solver.max_iterations}, {"relaxation", o.solver.relaxation},
+          {"order", ToString(o.solver.sweep_order)}, {"sweep_seed", o.solver.seed}};
+}
+
+// Records already on disk from an interrupted run with the same header, by target index.
+std::map<int, ReducedResponse> Resume(const std::filesystem::path& records, const nlohmann::json& header) {
+  std::map<int, ReducedResponse> done;
+  if (!std::filesystem::exists(records)) return done;
+  RecordsFile file = ReadRecords(records);
+  if (file.header != header) {
+    std::string keys;
+    for (const auto& [key, value] : header.items()) {
+      if (!file.header.contains(key) || file.header[key] != value) keys += (keys.empty() ? "" : ", ") + key;
+    }
+    throw std::invalid_argument(records.string() + " holds a run with other parameters (" + keys +
+                                "): remove it or choose another --output directory");
+  }
+  std::filesystem::resize_file(records, file.valid_bytes);  // drop a torn last line
+  for (auto& [index, record] : file.records) done.emplace(index, std::move(record));
+  return done;
+}
+
+std::string Format(const char* fmt, auto... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, fmt, args...);
+  return buf;
+}
+
+std::string TargetName(const PerturbationTarget& t) {
+  if (t.kind == PerturbationTarget::Kind::kParticleShift) return Format("particle %d", t.i);
+  return Format("contact %d-%d", t.i, t.j);
+}
+
+std::string PerturbationsCsv(const std::map<int, ReducedResponse>& records) {
+  std::ostringstream os;
+  os << "index,kind,i,j,image_x,image_y,x,y,axis_x,axis_y,f_reference,f_crit,penetration_depth,"
+        "cell_strain,pressure_change,inertia_ratio,equilibrium_residual,iterations,residual,status,rattler,seconds\n";
+  for (const auto& [k, r] : records) {
+    const bool shift = r.target.kind == PerturbationTarget::Kind::kParticleShift;
+    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%d,%.6e,%s,%d,%.4f\n",
+                 k, shift ? "shift" : "opening", r.target.i, r.target.j, r.target.image[0], r.target.image[1],
+                 r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y(), r.f_reference, r.f_crit, r.penetration_depth,
+                 r.cell_strain, r.pressure_change, r.inertia_ratio, r.equilibrium_residual, r.iterations,
+                 r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds);
+  }
+  return os.str();
+}
+
+std::string ProfileCsv(const EnsembleSummary& s) {
+  std::ostringstream os;
+  os << "r_low,r_high,r,displacement_over_gap,displacement_error,displacement_samples,abs_force_change,force_change_error,force_samples\n";
+  for (std::size_t b = 0; b < s.displacement_profile.size(); ++b) {
+    const LogBin& d = s.displacement_profile[b];
+    const LogBin& f = s.force_profile[b];
+    os << Format("%.6g,%.6g,%.6g,%.10g,%.4g,%d,%.10g,%.4g,%d\n", d.r_low, d.r_high, d.r_mean, d.mean, d.error,
+                 d.count, f.mean, f.error, f.count);
+  }
+  return os.str();
+}
+
+std::string HistogramCsv(const EnsembleSummary& s) {
+  std::ostringstream os;
+  os << "scale,bin_low,bin_high,count,density\n";
+  auto emit = [&](const char* name, const Histogram& h) {
+    const int n = static_cast<int>(h.counts.size());
+    for (int b = 0; b < n; ++b) {
+      const double w = (h.high - h.low) / n;
+      os << Format("%s,%.8g,%.8g,%d,%.8g\n", name, h.low + b * w, h.low + (b + 1) * w, h.counts[b], h.density[b]);
+    }
+  };
+  emit("raw", s.fcrit_raw);
+  emit("over_f0", s.fcrit_over_f0);
+  emit("over_mean", s.fcrit_over_mean);
+  return os.str();
+}
+
+std::string FieldCsv(const EnsembleSummary& s) {
+  std::ostringstream os;
+  os << "x,y,dx_over_gap,dy_over_gap,samples\n";
+  for (const FieldBox& b : s.field) {
+    os << Format("%.6g,%.6g,%.10g,%.10g,%d\n", b.center.x(), b.center.y(), b.mean.x(), b.mean.y(), b.count);
+  }
+  return os.str();
+}
+
+std::string StressCsv(const EnsembleSummary& s) {
+  std::ostringstream os;
+  os << "x,y,dsigma_xx,dsigma_xy,dsigma_yy,pressure_change,max_shear,shear_angle\n";
+  for (const StressBox& b : s.stress) {
+    os << Format("%.6g,%.6g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", b.center.x(), b.center.y(), b.mean(0, 0),
+                 b.mean(0, 1), b.mean(1, 1), b.pressure_change, b.max_shear, b.shear_angle);
+  }
+  return os.str();
+}
+
+std::string DisplacementCsv(const PerturbationBase& base, const PerturbationResult& r) {
+  std::ostringstream os;
+  os << "particle,x,y,radius,dx,dy,rotation\n";
+  for (std::size_t i = 0; i < r.displacement.size(); ++i) {
+    const Particle& p = base.scene.particles[i];
+    os << Format("%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i, p.position.x(), p.position.y(), p.radius,
+                 r.displacement[i].x(), r.displacement[i].y(), r.rotation[i]);
+  }
+  return os.str();
+}
+
+// The full fields of one perturbation: CSV, and VTK (ParaView) / extended XYZ (OVITO).
+void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& base, const PerturbationResult& r) {
+  WriteFileAtomically(dir / "displacement.csv", DisplacementCsv(base, r));
+  ParticleField field;
+  field.displacement = r.displacement;
+  for (const ContactForceChange& c : r.force_changes) {
+    if (c.normal_after != 0.0 || c.tangential_after != 0.0) field.forces.push_back({c.i, c.j, c.image, c.normal_after, c.tangential_after});
+    field.force_change.push_back({c.i, c.j, c.image, c.normal_after - c.normal_before, c.tangential_after - c.tangential_before});
+  }
+  WriteVtk(base.scene, field, dir / "response.vtk");
+  WriteExtendedXyz(base.scene, field, dir / "response.xyz");
+}
+
+nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+// A mean over no sample is no number.
+nlohmann::json MeanOrNull(const MeanAndError& m) { return m.count > 0 ? NumberOrNull(m.mean) : nlohmann::json(nullptr); }
+nlohmann::json ErrorOrNull(const MeanAndError& m) { return m.count > 1 ? NumberOrNull(m.error) : nlohmann::json(nullptr); }
+
+nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const PerturbationOptions& o,
+                           const PerturbationBase& base, const EnsembleSummary& s, double seconds) {
+  const bool shift = !sel.targets.empty() && sel.targets[0].kind == PerturbationTarget::Kind::kParticleShift;
+  nlohmann::json j = {
+      {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
+      {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
+      {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
+      {"dynamic", s.dynamic}, {"rattlers", s.rattlers},
+      {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
+      {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},
+      {"reference", shift ? "F_y (effective weight)" : "F_cont"},
+      {"mean_freference", MeanOrNull(s.f_reference)},
+      {"ratio_fcrit_freference", NumberOrNull(s.ratio)}, {"ratio_error", NumberOrNull(s.ratio_error)},
+      {"f0", s.f0}, {"mean_delta", MeanOrNull(s.penetration_depth)},
+      {"mean_delta_error", ErrorOrNull(s.penetration_depth)},
+      {"alpha", NumberOrNull(s.decay.alpha)}, {"alpha_error", NumberOrNull(s.decay.alpha_error)},
+      {"alpha_fit_range", {s.decay.fit_min, s.decay.fit_max}}, {"alpha_fit_points", s.decay.points},
+      {"fcrit_tail_scale", s.fcrit_tail.count > 0 ? NumberOrNull(s.fcrit_tail.scale) : nullptr},
+      {"fcrit_tail_scale_error", s.fcrit_tail.count > 0 ? NumberOrNull(s.fcrit_tail.scale_error) : nullptr},
+      {"fcrit_tail_samples", s.fcrit_tail.count},
+      {"corr_fcrit_delta", s.corr_fcrit_delta}, {"corr_fcont_delta", s.corr_freference_delta},
+      {"corr_fcrit_fcont", s.corr_fcrit_freference}, {"seconds", seconds}};
+  if (!f.output_dir.empty()) j["output"] = f.output_dir;
+  return j;
+}
+
+void PrintSummary(const nlohmann::json& j) {
+  auto num = [&](const char* key) { return j[key].is_null() ? std::string("n/a") : Format("%.6g", j[key].get<double>()); };
+  std::printf("perturbations      %d (used %d, not converged %d, dynamic %d, rattlers %d)\n", j["perturbations"].get<int>(),
+              j["used"].get<int>(), j["not_converged"].get<int>(), j["dynamic"].get<int>(), j["rattlers"].get<int>());
+  std::printf("mode               %s, gap %.3g, dt %.3g, tolerance %.3g (%s)\n", j["mode"].get<std::string>().c_str(),
+              j["gap"].get<double>(), j["dt"].get<double>(), j["tolerance"].get<double>(), j["backend"].get<std::string>().c_str());
+  std::printf("<F_crit>           %s +- %s\n", num("mean_fcrit").c_str(), num("mean_fcrit_error").c_str());
+  std::printf("<reference>        %s  (%s)\n", num("mean_freference").c_str(), j["reference"].get<std::string>().c_str());
+  std::printf("<F_crit>/<ref>     %s +- %s\n", num("ratio_fcrit_freference").c_str(), num("ratio_error").c_str());
+  std::printf("<delta>            %s +- %s\n", num("mean_delta").c_str(), num("mean_delta_error").c_str());
+  std::printf("decay alpha        %s +- %s (d ~ r^-alpha, %d bins)\n", num("alpha").c_str(), num("alpha_error").c_str(),
+              j["alpha_fit_points"].get<int>());
+  std::printf("seconds            %.3f\n", j["seconds"].get<double>());
+}
+
+}  // namespace
+
+int RunPerturb(const PerturbFlags& f) {
+  const auto start = Clock::now();
+  const PerturbationOptions options = OptionsFrom(f);
+  const Scene scene = ReadPacking(f.file);
+  if (scene.forces.empty()) {
+    throw InputError(f.file, 0, "stores no static forces: run `unjam solve " + f.file + " -o FILE` first");
+  }
+  const PerturbationBase base = PreparePerturbations(scene, options);
+  const Selection selection = SelectTargets(f, base);
+  const EnsembleOptions ensemble;
+  const ResponseLayout layout = MakeLayout(base, ensemble, options.gap);
+
+  const std::filesystem::path dir = f.output_dir;
+  const nlohmann::json header = Header(f, selection, options, base);
+  std::map<int, ReducedResponse> records;
+  std::ofstream log;
+  if (!f.output_dir.empty()) {
+    std::filesystem::create_directories(dir);
+    records = Resume(dir / "records.jsonl", header);
+    const bool fresh = !std::filesystem::exists(dir / "records.jsonl");
+    log.open(dir / "records.jsonl", std::ios::app | std::ios::binary);
+    if (!log) throw OutputError((dir / "records.jsonl").string() + ": cannot open for writing");
+    if (fresh) log << header.dump() << '\n' << std::flush;
+  }
+  std::vector<PerturbationTarget> todo;
+  std::vector<int> index_of;
+  for (int k = 0; k < static_cast<int>(selection.targets.size()); ++k) {
+    if (records.count(k)) continue;
+    todo.push_back(selection.targets[k]);
+    index_of.push_back(k);
+  }
+  if (!f.quiet && !records.empty()) std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(), selection.targets.size());
+  const int threads = f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency());
+  const int total = static_cast<int>(selection.targets.size());
+  PerturbAll(base, todo, options, threads, [&](int t, const PerturbationResult& r) {
+    const int k = index_of[t];
+    ReducedResponse record = Reduce(base, r, layout, ensemble);
+    if (log.is_open()) {
+      nlohmann::json line = ToJson(record);
+      line["index"] = k;
+      log << line.dump() << '\n' << std::flush;
+      if (k == 0) WriteFullField(dir, base, r);
+    }
+    if (!f.quiet) {
+      std::fprintf(stderr, "perturb [%d/%d] %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n",
+                   static_cast<int>(records.size()) + 1, total, TargetName(r.target).c_str(), r.f_crit, r.f_reference,
+                   r.penetration_depth, r.status.c_str(), r.solve.iterations, r.solve.residual, r.seconds);
+    }
+    records.emplace(k, std::move(record));
+  });
+  std::vector<ReducedResponse> ordered;
+  for (const auto& [k, r] : records) ordered.push_back(r);
+  const EnsembleSummary summary = Summarize(ordered, layout, ensemble);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const nlohmann::json out = SummaryJson(f, selection, options, base, summary, seconds);
+  if (!f.output_dir.empty()) {
+    WriteFileAtomically(dir / "perturbations.csv", PerturbationsCsv(records));
+    WriteFileAtomically(dir / "profile.csv", ProfileCsv(summary));
+    WriteFileAtomically(dir / "fcrit_histogram.csv", HistogramCsv(summary));
+    WriteFileAtomically(dir / "field.csv", FieldCsv(summary));
+    WriteFileAtomically(dir / "stress.csv", StressCsv(summary));
+    WriteFileAtomically(dir / "summary.json", out.dump(2) + "\n");
+  }
+  if (f.json) std::printf("%s\n", out.dump().c_str());
+  else PrintSummary(out);
+  const int failed = summary.not_converged + summary.dynamic;
+  if (failed > 0) {
+    std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d)\n",
+                 failed, summary.perturbations, summary.not_converged, summary.dynamic);
+    if (f.solver.require_converged) return kNotConverged;
+  }
+  return kOk;
+}
+
+}  // namespace unjam::cli

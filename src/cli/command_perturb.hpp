@@ -1,0 +1,37 @@
+// `unjam perturb`: contact openings or particle shifts of a static packing, one by one from
+// the same state, and what they measure (docs/perturbations.md, docs/cli.md).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.hpp"
+
+namespace unjam::cli {
+
+struct PerturbFlags {
+  std::string file;
+  std::optional<int> contact;       // --contact K
+  bool all = false;
+  std::optional<int> sample;        // --sample N
+  std::uint64_t seed = 1;
+  bool top = false, bottom = false;
+  std::string mode = "fixed-pressure";
+  double gap = 1e-9;
+  double dt = 1.0;
+  double response_tol = 1e-2;
+  int threads = 0;                  // 0: all cores
+  SolverFlags solver;
+  std::string output_dir;
+  bool json = false;
+  bool quiet = false;
+  CLI::App* app = nullptr;          // to ask whether --tol was given
+
+  void Register(CLI::App& app);
+};
+
+int RunPerturb(const PerturbFlags& flags);
+
+}  // namespace unjam::cli

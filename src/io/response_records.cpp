@@ -1,0 +1,120 @@
+#include "unjam/io/response_records.hpp"
+
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "unjam/io/packing_file.hpp"
+
+namespace unjam {
+
+namespace {
+// JSON has no NaN: empty profile bins are written as null.
+nlohmann::json WithNulls(const std::vector<double>& v) {
+  nlohmann::json out = nlohmann::json::array();
+  for (double x : v) out.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr));
+  return out;
+}
+
+std::vector<double> FromNulls(const nlohmann::json& j) {
+  std::vector<double> out;
+  for (const auto& x : j) out.push_back(x.is_null() ? std::numeric_limits<double>::quiet_NaN() : x.get<double>());
+  return out;
+}
+
+nlohmann::json TargetJson(const PerturbationTarget& t) {
+  const bool shift = t.kind == PerturbationTarget::Kind::kParticleShift;
+  return {{"kind", shift ? "shift" : "opening"}, {"i", t.i}, {"j", t.j}, {"image", t.image},
+          {"direction", {t.direction.x(), t.direction.y()}}};
+}
+
+PerturbationTarget TargetFromJson(const nlohmann::json& j) {
+  PerturbationTarget t;
+  t.kind = j.at("kind").get<std::string>() == "shift" ? PerturbationTarget::Kind::kParticleShift
+                                                      : PerturbationTarget::Kind::kContactOpening;
+  t.i = j.at("i").get<int>();
+  t.j = j.at("j").get<int>();
+  t.image = j.at("image").get<std::array<int, 2>>();
+  t.direction = Vec2(j.at("direction")[0].get<double>(), j.at("direction")[1].get<double>());
+  return t;
+}
+}  // namespace
+
+nlohmann::json ToJson(const ReducedResponse& r) {
+  return {{"target", TargetJson(r.target)},
+          {"origin", {r.origin.x(), r.origin.y()}},
+          {"axis", {r.axis.x(), r.axis.y()}},
+          {"f_crit", r.f_crit}, {"f_reference", r.f_reference},
+          {"penetration_depth", r.penetration_depth}, {"cell_strain", r.cell_strain},
+          {"pressure_change", r.pressure_change}, {"inertia_ratio", r.inertia_ratio},
+          {"equilibrium_residual", r.equilibrium_residual}, {"residual", r.residual},
+          {"seconds", r.seconds}, {"iterations", r.iterations}, {"status", r.status},
+          {"rattler", r.rattler},
+          {"displacement_profile", WithNulls(r.displacement_profile)},
+          {"force_profile", WithNulls(r.force_profile)},
+          {"field", r.field}, {"field_count", r.field_count}, {"stress", r.stress}};
+}
+
+ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::string& where) {
+  try {
+    ReducedResponse r;
+    r.target = TargetFromJson(j.at("target"));
+    r.origin = Vec2(j.at("origin")[0].get<double>(), j.at("origin")[1].get<double>());
+    r.axis = Vec2(j.at("axis")[0].get<double>(), j.at("axis")[1].get<double>());
+    r.f_crit = j.at("f_crit").get<double>();
+    r.f_reference = j.at("f_reference").get<double>();
+    r.penetration_depth = j.at("penetration_depth").get<double>();
+    r.cell_strain = j.at("cell_strain").get<double>();
+    r.pressure_change = j.at("pressure_change").get<double>();
+    r.inertia_ratio = j.at("inertia_ratio").get<double>();
+    r.equilibrium_residual = j.at("equilibrium_residual").get<double>();
+    r.residual = j.at("residual").get<double>();
+    r.seconds = j.at("seconds").get<double>();
+    r.iterations = j.at("iterations").get<int>();
+    r.status = j.at("status").get<std::string>();
+    r.rattler = j.at("rattler").get<bool>();
+    r.displacement_profile = FromNulls(j.at("displacement_profile"));
+    r.force_profile = FromNulls(j.at("force_profile"));
+    r.field = j.at("field").get<std::vector<double>>();
+    r.field_count = j.at("field_count").get<std::vector<int>>();
+    r.stress = j.at("stress").get<std::vector<double>>();
+    return r;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(where, 0, std::string("bad perturbation record: ") + e.what());
+  }
+}
+
+RecordsFile ReadRecords(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), 0, "cannot open for reading");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  RecordsFile out;
+  std::size_t begin = 0;
+  int line = 0;
+  while (begin < text.size()) {
+    const std::size_t end = text.find('\n', begin);
+    if (end == std::string::npos) break;  // torn last line: ignored
+    ++line;
+    const std::string where = path.string() + ":" + std::to_string(line);
+    nlohmann::json j;
+    try {
+      j = nlohmann::json::parse(text.substr(begin, end - begin));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(path.string(), line, std::string("not a JSON object: ") + e.what());
+    }
+    if (line == 1) {
+      out.header = j;
+    } else {
+      if (!j.contains("index") || !j["index"].is_number_integer()) throw InputError(path.string(), line, "record without an integer \"index\"");
+      out.records.emplace_back(j["index"].get<int>(), ReducedResponseFromJson(j, where));
+    }
+    begin = end + 1;
+  }
+  out.valid_bytes = begin;
+  if (line == 0) throw InputError(path.string(), 1, "empty records file (no header line)");
+  return out;
+}
+
+}  // namespace unjam

@@ -1,0 +1,382 @@
+#include "unjam/protocols/perturbation.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <stdexcept>
+#include <thread>
+
+#include "unjam/analysis/equilibrium.hpp"
+#include "unjam/protocols/static_solve.hpp"
+
+namespace unjam {
+
+const char* ToString(CellCondition condition) {
+  return condition == CellCondition::kFixedPressure ? "fixed-pressure" : "fixed-volume";
+}
+
+CellCondition CellConditionFromString(const std::string& name) {
+  if (name == "fixed-pressure") return CellCondition::kFixedPressure;
+  if (name == "fixed-volume") return CellCondition::kFixedVolume;
+  throw std::invalid_argument("unknown cell condition '" + name + "' (known: fixed-pressure, fixed-volume)");
+}
+
+void Validate(const PerturbationOptions& o) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument(what);
+  };
+  require(std::isfinite(o.gap) && o.gap > 0.0, "perturbation gap must be positive and finite");
+  require(std::isfinite(o.dt) && o.dt > 0.0, "perturbation time step must be positive and finite");
+  require(o.margin > o.gap, "contact margin must exceed the perturbation gap");
+  require(o.closed_gap_tolerance >= 0.0 && o.closed_gap_tolerance < o.gap,
+          "closed-gap tolerance must be below the perturbation gap");
+  require(o.response_tolerance > 0.0 && o.response_tolerance < 1.0,
+          "response tolerance must be in (0, 1)");
+  require(o.max_inertia_ratio > 0.0, "inertia ratio threshold must be positive");
+  require(o.solver_tolerance >= 0.0, "solver tolerance must be positive");
+  Validate(o.solver);
+}
+
+double SolverToleranceFor(const PerturbationOptions& options, const PerturbationBase& base) {
+  if (options.solver_tolerance > 0.0) return options.solver_tolerance;
+  const double force = base.mean_contact_force > 0.0 ? base.mean_contact_force : 1.0;
+  return options.response_tolerance * options.gap * 0.5 * base.mean_mass / (force * options.dt * options.dt);
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Scene AtRest(const Scene& scene) {
+  Scene rest = scene;
+  for (Particle& p : rest.particles) {
+    p.velocity = Vec2::Zero();
+    p.spin = 0.0;
+  }
+  if (rest.effects.pressure_bath) rest.effects.pressure_bath->strain_rate = 0.0;
+  rest.effects.prescribed_motion.clear();
+  rest.effects.prescribed_gaps.clear();
+  return rest;
+}
+
+bool SameKey(const Contact& c, int i, int j, const std::array<int, 2>& image) {
+  return c.i == i && c.j == j && c.image == image;
+}
+
+int FindContact(const std::vector<Contact>& contacts, int i, int j, const std::array<int, 2>& image) {
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (SameKey(contacts[k], i, j, image)) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+Vec2 ForceVector(const Contact& c, const Eigen::Vector2d& f) {
+  return f[0] * c.normal + f[1] * Perp(c.normal);
+}
+
+// Σ of the contact forces acting on particle p.
+Vec2 ContactForceOn(int p, const std::vector<Contact>& contacts,
+                    const std::vector<Eigen::Vector2d>& forces) {
+  Vec2 sum = Vec2::Zero();
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& c = contacts[k];
+    if (c.i == p) sum -= ForceVector(c, forces[k]);
+    if (!c.WithWall() && c.j == p) sum += ForceVector(c, forces[k]);
+  }
+  return sum;
+}
+
+// Effective weight F_y: the sum of the positive vertical components of the contact forces
+// on particle p.
+double EffectiveWeight(int p, const std::vector<Contact>& contacts,
+                       const std::vector<Eigen::Vector2d>& forces) {
+  double sum = 0.0;
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    const Contact& c = contacts[k];
+    double fy = 0.0;
+    if (c.i == p) fy = -ForceVector(c, forces[k]).y();
+    else if (!c.WithWall() && c.j == p) fy = ForceVector(c, forces[k]).y();
+    else continue;
+    sum += std::max(fy, 0.0);
+  }
+  return sum;
+}
+
+// The scene of one perturbation: the static state plus the held gap or the prescribed shift.
+Scene PerturbedScene(const PerturbationBase& base, const PerturbationTarget& t,
+                     const PerturbationOptions& o) {
+  Scene s = base.scene;
+  if (t.kind == PerturbationTarget::Kind::kParticleShift) {
+    s.effects.prescribed_motion.push_back({t.i, (o.gap / o.dt) * t.direction, 0.0});
+    return s;
+  }
+  if (o.cell == CellCondition::kFixedVolume) s.effects.pressure_bath.reset();
+  const int k = FindContact(base.contacts, t.i, t.j, t.image);
+  double gap = k >= 0 ? base.contacts[k].gap : MakeContact(base.scene, t.i, t.j, t.image).gap;
+  if (std::abs(gap) <= o.closed_gap_tolerance) gap = 0.0;
+  s.effects.prescribed_gaps.push_back({t.i, t.j, t.image, gap + o.gap});
+  return s;
+}
+
+std::vector<ContactForceChange> ForceChanges(const PerturbationBase& base,
+                                             const StaticSolution& after) {
+  std::vector<ContactForceChange> out;
+  out.reserve(after.contacts.size());
+  // Both lists are sorted by key (detection order); the perturbed one may hold one more
+  // contact (a held gap beyond the margin).
+  std::size_t a = 0;
+  for (std::size_t b = 0; b < after.contacts.size(); ++b) {
+    const Contact& c = after.contacts[b];
+    while (a < base.contacts.size() && ContactKeyLess(base.contacts[a], c)) ++a;
+    ContactForceChange change{c.i, c.j, c.image, base.scene.particles[c.i].position + c.branch_i,
+                              c.normal, c.center_to_center};
+    if (a < base.contacts.size() && SameContactKey(base.contacts[a], c)) {
+      change.normal_before = base.forces[a][0];
+      change.tangential_before = base.forces[a][1];
+    }
+    change.normal_after = after.forces[b][0];
+    change.tangential_after = after.forces[b][1];
+    out.push_back(change);
+  }
+  return out;
+}
+
+double PenetrationDepth(const Scene& scene, const std::vector<Vec2>& d, Vec2 origin, Vec2 axis) {
+  double weighted = 0.0, total = 0.0;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const double magnitude = d[i].norm();
+    if (magnitude == 0.0) continue;
+    const Vec2 r = MinimumImage(scene.cell, scene.particles[i].position - origin);
+    weighted += magnitude * std::abs(r.dot(axis));
+    total += magnitude;
+  }
+  return total > 0.0 ? weighted / total : 0.0;
+}
+
+double InertiaRatio(const PerturbationBase& base, const std::vector<Vec2>& d, double dt) {
+  double largest = 0.0;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    largest = std::max(largest, base.scene.particles[i].Mass() * d[i].norm() / (dt * dt));
+  }
+  return base.mean_contact_force > 0.0 ? largest / base.mean_contact_force : largest;
+}
+
+void SetOriginAndReference(const PerturbationBase& base, const PerturbationTarget& t,
+                           PerturbationResult& r) {
+  if (t.kind == PerturbationTarget::Kind::kParticleShift) {
+    r.origin = base.scene.particles[t.i].position;
+    r.axis = Vec2(0.0, 1.0);
+    r.f_reference = EffectiveWeight(t.i, base.contacts, base.forces);
+    return;
+  }
+  const int k = FindContact(base.contacts, t.i, t.j, t.image);
+  const Contact c = k >= 0 ? base.contacts[k] : MakeContact(base.scene, t.i, t.j, t.image);
+  r.origin = base.scene.particles[t.i].position + c.branch_i;
+  r.axis = c.normal;
+  r.f_reference = k >= 0 ? base.forces[k][0] : 0.0;
+}
+
+double CriticalForce(const PerturbationTarget& t, const StaticSolution& s) {
+  if (t.kind == PerturbationTarget::Kind::kParticleShift) {
+    return -t.direction.dot(ContactForceOn(t.i, s.contacts, s.forces));
+  }
+  const int k = FindContact(s.contacts, t.i, t.j, t.image);
+  return k >= 0 ? s.forces[k][0] : 0.0;
+}
+
+void CheckTarget(const PerturbationBase& base, const PerturbationTarget& t) {
+  const int n = static_cast<int>(base.scene.particles.size());
+  if (t.i < 0 || t.i >= n) throw std::invalid_argument("perturbation names particle " + std::to_string(t.i) + ", which does not exist");
+  if (t.kind == PerturbationTarget::Kind::kParticleShift) {
+    if (base.scene.particles[t.i].fixed) throw std::invalid_argument("particle " + std::to_string(t.i) + " is fixed and cannot be shifted");
+    return;
+  }
+  if (t.j < 0 || t.j >= n || t.j == t.i) throw std::invalid_argument("perturbation names contact (" + std::to_string(t.i) + ", " + std::to_string(t.j) + "), which does not exist");
+}
+
+}  // namespace
+
+PerturbationBase PreparePerturbations(const Scene& static_scene, const PerturbationOptions& options) {
+  if (static_scene.forces.empty()) {
+    throw std::invalid_argument("the packing stores no static forces: run `unjam solve FILE -o FILE` first");
+  }
+  Validate(options);
+  PerturbationBase base;
+  base.scene = AtRest(static_scene);
+  base.contacts = DetectContacts(base.scene, options.margin);
+  const ForcesByContact stored(static_scene.forces);
+  base.forces.assign(base.contacts.size(), Eigen::Vector2d::Zero());
+  for (std::size_t k = 0; k < base.contacts.size(); ++k) {
+    if (const ContactForce* f = stored.Find(base.contacts[k])) base.forces[k] = {f->normal, f->tangential};
+  }
+  const EquilibriumReport eq = CheckEquilibrium(base.scene, base.contacts, base.forces);
+  base.mean_contact_force = eq.mean_contact_force;
+  base.pressure = eq.pressure;
+  for (const Particle& p : base.scene.particles) base.mean_radius += p.radius;
+  base.mean_radius /= std::max<std::size_t>(1, base.scene.particles.size());
+  const std::vector<char> movable = MovableParticles(base.scene);
+  int free_particles = 0;
+  for (std::size_t i = 0; i < movable.size(); ++i) {
+    if (!movable[i]) continue;
+    base.mean_mass += base.scene.particles[i].Mass();
+    ++free_particles;
+  }
+  base.mean_mass = free_particles > 0 ? base.mean_mass / free_particles : 1.0;
+  return base;
+}
+
+PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarget& target,
+                           const PerturbationOptions& options) {
+  const auto start = Clock::now();
+  CheckTarget(base, target);
+  PerturbationResult r;
+  r.target = target;
+  SetOriginAndReference(base, target, r);
+
+  StaticSolveOptions solve;
+  solve.dt = options.dt;
+  solve.closed_gap_tolerance = options.closed_gap_tolerance;
+  solve.margin = options.margin;
+  solve.backend = options.backend;
+  solve.solver = options.solver;
+  solve.solver.tolerance = SolverToleranceFor(options, base);
+  const StaticSolution s = SolveStatic(PerturbedScene(base, target, options), solve);
+
+  r.solve = s.report;
+  r.f_crit = CriticalForce(target, s);
+  r.displacement = s.displacement;
+  r.rotation = s.rotation;
+  r.cell_strain = s.cell_strain;
+  r.force_changes = ForceChanges(base, s);
+  r.penetration_depth = PenetrationDepth(base.scene, r.displacement, r.origin, r.axis);
+  if (PeriodicY(base.scene.cell.periodicity)) r.pressure_change = s.equilibrium.pressure - base.pressure;
+  r.inertia_ratio = InertiaRatio(base, r.displacement, options.dt);
+  r.equilibrium_residual = s.equilibrium.residual;
+  r.quasi_static = r.inertia_ratio <= options.max_inertia_ratio;
+  r.status = !r.solve.converged() ? "not-converged" : !r.quasi_static ? "dynamic" : "ok";
+  r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return r;
+}
+
+std::vector<PerturbationTarget> ContactTargets(const PerturbationBase& base) {
+  std::vector<PerturbationTarget> out;
+  for (const ContactForce& f : base.scene.forces) {
+    if (f.normal <= 0.0 || IsWallIndex(f.j)) continue;
+    if (base.scene.particles[f.i].fixed && base.scene.particles[f.j].fixed) continue;
+    PerturbationTarget t;
+    t.kind = PerturbationTarget::Kind::kContactOpening;
+    t.i = f.i;
+    t.j = f.j;
+    t.image = f.image;
+    out.push_back(t);
+  }
+  return out;
+}
+
+std::vector<PerturbationTarget> SampleTargets(std::vector<PerturbationTarget> all, int count,
+                                              std::uint64_t seed) {
+  const int n = static_cast<int>(all.size());
+  if (count >= n) return all;
+  // Partial Fisher–Yates with an explicit modulus: the same sample on every platform.
+  std::vector<int> index(n);
+  for (int k = 0; k < n; ++k) index[k] = k;
+  std::mt19937_64 rng(seed);
+  for (int k = 0; k < count; ++k) {
+    const int pick = k + static_cast<int>(rng() % static_cast<std::uint64_t>(n - k));
+    std::swap(index[k], index[pick]);
+  }
+  index.resize(count);
+  std::sort(index.begin(), index.end());
+  std::vector<PerturbationTarget> out;
+  for (int k : index) out.push_back(all[k]);
+  return out;
+}
+
+namespace {
+// One free particle per bin of about one mean diameter across the width: the one that
+// `better` prefers (highest or lowest centre).
+template <class Better>
+std::vector<PerturbationTarget> PerBin(const PerturbationBase& base, Vec2 direction, Better better) {
+  const Scene& s = base.scene;
+  const double width = s.cell.size.x();
+  const int bins = std::max(1, static_cast<int>(std::lround(width / (2.0 * base.mean_radius))));
+  std::vector<int> chosen(bins, -1);
+  for (int i = 0; i < static_cast<int>(s.particles.size()); ++i) {
+    const Particle& p = s.particles[i];
+    if (p.fixed) continue;
+    const double x = p.position.x() - width * std::floor(p.position.x() / width);
+    const int b = std::min(bins - 1, static_cast<int>(x / width * bins));
+    if (chosen[b] < 0 || better(p.position.y(), s.particles[chosen[b]].position.y())) chosen[b] = i;
+  }
+  std::vector<PerturbationTarget> out;
+  for (int i : chosen) {
+    if (i < 0) continue;
+    PerturbationTarget t;
+    t.kind = PerturbationTarget::Kind::kParticleShift;
+    t.i = i;
+    t.direction = direction;
+    out.push_back(t);
+  }
+  return out;
+}
+}  // namespace
+
+std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base) {
+  return PerBin(base, Vec2(0.0, -1.0), [](double y, double best) { return y > best; });
+}
+
+std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base) {
+  return PerBin(base, Vec2(0.0, 1.0), [](double y, double best) { return y < best; });
+}
+
+std::vector<PerturbationResult> PerturbAll(
+    const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
+    const PerturbationOptions& options, int threads,
+    const std::function<void(int, const PerturbationResult&)>& on_result) {
+  const int n = static_cast<int>(targets.size());
+  std::vector<std::optional<PerturbationResult>> results(n);
+  std::mutex mutex;
+  std::condition_variable ready;
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  auto work = [&] {
+    for (int k = next++; k < n; k = next++) {
+      std::optional<PerturbationResult> r;
+      try {
+        r = Perturb(base, targets[k], options);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!failure) failure = std::current_exception();
+        next = n;
+      }
+      std::lock_guard<std::mutex> lock(mutex);
+      results[k] = std::move(r);
+      ready.notify_all();
+    }
+  };
+  // One thread: in order, here. More: workers, while this thread reports.
+  std::vector<std::thread> pool;
+  if (threads <= 1) work();
+  else for (int t = 0; t < threads; ++t) pool.emplace_back(work);
+  // Report in target order as results arrive.
+  for (int k = 0; k < n; ++k) {
+    std::unique_lock<std::mutex> lock(mutex);
+    ready.wait(lock, [&] { return results[k].has_value() || failure; });
+    if (failure) break;
+    lock.unlock();
+    if (on_result) on_result(k, *results[k]);
+  }
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+  std::vector<PerturbationResult> out;
+  out.reserve(n);
+  for (auto& r : results) out.push_back(std::move(*r));
+  return out;
+}
+
+}  // namespace unjam

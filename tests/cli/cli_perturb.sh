@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# `unjam perturb`: a frictionless V-groove (a disk on two fixed disks) opened contact by
+# contact: the critical force is the static force; outputs, JSON, resume, and bad input.
+# Usage: cli_perturb.sh UNJAM_BINARY SOURCE_DIR
+set -u
+unjam="$1"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+printf 'unjam-packing 1\ncell 10 10\ngravity 0 -1\nparticles 3\n3.8 1 0 0 0 0 1 1 1\n6.2 1 0 0 0 0 1 1 1\n5 2.6 0 0 0 0 1 1 0\nend\n' >"$work/bare.unjam"
+"$unjam" solve "$work/bare.unjam" --tol 1e-14 -o "$work/vg.unjam" >/dev/null || fail "solve: exit $?"
+
+"$unjam" perturb "$work/vg.unjam" --all --json --threads 1 -o "$work/out" >"$work/all.json" 2>/dev/null || fail "perturb --all: exit $?"
+/usr/bin/python3 - "$work/all.json" <<'PY' || fail "perturb --json"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+for key in ("perturbations", "mean_fcrit", "mean_fcont", "mean_delta", "alpha", "seconds"):
+    assert key in d, key
+assert d["perturbations"] == 2 and d["used"] == 2, d
+# m g / (2 cos θ) with m = π, cos θ = 0.8
+assert abs(d["mean_fcrit"] - math.pi / 1.6) < 1e-7, d["mean_fcrit"]
+assert abs(d["mean_delta"] - 1.0) < 1e-6, d["mean_delta"]
+PY
+for f in perturbations.csv profile.csv fcrit_histogram.csv field.csv stress.csv summary.json records.jsonl displacement.csv response.vtk response.xyz; do
+  [ -s "$work/out/$f" ] || fail "missing output $f"
+done
+[ "$(wc -l <"$work/out/perturbations.csv")" -eq 3 ] || fail "perturbations.csv: expected a header and 2 rows"
+
+# Resume: a run cut after its first record redoes only the second, with the same numbers.
+cp "$work/out/perturbations.csv" "$work/before.csv"
+head -n 2 "$work/out/records.jsonl" >"$work/cut" && mv "$work/cut" "$work/out/records.jsonl"
+printf '{"index": 1, "torn' >>"$work/out/records.jsonl"
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/out" >/dev/null 2>"$work/resume.err" || fail "resume: exit $?"
+grep -q "resuming, 1 of 2 done" "$work/resume.err" || fail "the rerun did not resume: $(cat "$work/resume.err")"
+cmp -s <(cut -d, -f1-21 "$work/before.csv") <(cut -d, -f1-21 "$work/out/perturbations.csv") || fail "resumed results differ"
+"$unjam" perturb "$work/vg.unjam" --all --gap 1e-8 -o "$work/out" >/dev/null 2>"$work/other.err"; code=$?
+[ "$code" -eq 2 ] || fail "records of other parameters: exit $code, expected 2"
+grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"
+
+# Bad input: no selection, two selections, a contact that does not exist, no forces, a bad
+# mode; none leaves an output directory behind.
+check() {  # expected-exit description args...
+  local want="$1" what="$2"; shift 2
+  "$unjam" perturb "$@" -o "$work/bad" >/dev/null 2>"$work/err"; local code=$?
+  [ "$code" -eq "$want" ] || fail "$what: exit $code, expected $want"
+  [ -s "$work/err" ] || fail "$what: no error message"
+  [ ! -e "$work/bad" ] || { fail "$what: left $work/bad"; rm -rf "$work/bad"; }
+}
+check 2 "no selection" "$work/vg.unjam"
+check 2 "two selections" "$work/vg.unjam" --all --top
+check 2 "--contact 5" "$work/vg.unjam" --contact 5
+check 2 "--top without a pile" "$work/vg.unjam" --top
+check 2 "--mode bogus" "$work/vg.unjam" --all --mode bogus
+check 2 "--gap -1" "$work/vg.unjam" --all --gap -1
+check 1 "no forces" "$work/bare.unjam" --all
+grep -q "bare.unjam" "$work/err" || fail "no-forces error does not name the file"
+
+echo "cli_perturb: $failures failures"
+[ "$failures" -eq 0 ]

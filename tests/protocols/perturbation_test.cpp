@@ -1,0 +1,210 @@
+// Perturbations with known answers: a disk in a frictionless V-groove (the opened contact
+// carries its static force, the disk slides along the other support), a column of disks
+// (lifting a disk lifts the one above it), and the frictionless bundled packing (unique
+// forces: every critical force equals the contact force).
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+
+#include "test_scenes.hpp"
+#include "unjam/analysis/response_ensemble.hpp"
+#include "unjam/io/packing_file.hpp"
+#include "unjam/protocols/perturbation.hpp"
+#include "unjam/protocols/static_solve.hpp"
+
+namespace unjam {
+namespace {
+
+using testing::Disk;
+
+// Solves the static forces of `scene` and stores them, as a saved static packing has.
+Scene WithStaticForces(Scene scene) {
+  StaticSolveOptions o;
+  o.solver.tolerance = 1e-14;
+  const StaticSolution s = SolveStatic(scene, o);
+  EXPECT_TRUE(s.report.converged()) << s.report.residual;
+  scene.forces = ToContactForces(s);
+  return scene;
+}
+
+// Disk 2 (radius 1) resting on fixed disks 0 and 1 (radius 1) at x = ∓a, gravity −1.
+Scene VGroove(double a) {
+  Scene s;
+  s.effects.gravity = Vec2(0.0, -1.0);
+  s.particles = {Disk(-a, 0.0, 1.0, true), Disk(a, 0.0, 1.0, true), Disk(0.0, std::sqrt(4.0 - a * a), 1.0)};
+  return WithStaticForces(s);
+}
+
+PerturbationTarget Opening(int i, int j) {
+  PerturbationTarget t;
+  t.kind = PerturbationTarget::Kind::kContactOpening;
+  t.i = i;
+  t.j = j;
+  return t;
+}
+
+PerturbationTarget Shift(int particle, Vec2 direction) {
+  PerturbationTarget t;
+  t.kind = PerturbationTarget::Kind::kParticleShift;
+  t.i = particle;
+  t.direction = direction;
+  return t;
+}
+
+TEST(Perturbation, VGrooveOpeningNeedsTheStaticForceAndSlidesAlongTheOtherSupport) {
+  const double a = 1.2;
+  const Scene scene = VGroove(a);
+  const double h = std::sqrt(4.0 - a * a);
+  const double weight = std::numbers::pi;
+  const double static_force = weight / (2.0 * h / 2.0);  // each support: m g / (2 cos θ)
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const PerturbationResult r = Perturb(base, Opening(0, 2), o);
+  ASSERT_EQ(r.status, "ok") << r.solve.residual;
+  EXPECT_NEAR(r.f_reference, static_force, 1e-12);
+  EXPECT_NEAR(r.f_crit, static_force, 1e-7 * static_force);
+  // Kinematics: the opened contact moves apart by ξ, the other stays closed.
+  const Vec2 n_left = Vec2(a, h) / 2.0, n_right = Vec2(-a, h) / 2.0;
+  Eigen::Matrix2d rows;
+  rows << n_left.x(), n_left.y(), n_right.x(), n_right.y();
+  const Vec2 expected = rows.inverse() * Vec2(o.gap, 0.0);
+  EXPECT_LT((r.displacement[2] - expected).norm(), 1e-3 * o.gap);
+  EXPECT_EQ(r.displacement[0], Vec2::Zero());
+  // The response scales with ξ; the critical force does not, nor does it depend on Δt.
+  PerturbationOptions ten = o;
+  ten.gap = 1e-8;
+  const PerturbationResult r10 = Perturb(base, Opening(0, 2), ten);
+  EXPECT_LT((r10.displacement[2] - 10.0 * r.displacement[2]).norm(), 1e-3 * ten.gap);
+  EXPECT_NEAR(r10.f_crit, r.f_crit, 1e-7 * static_force);
+  PerturbationOptions short_step = o;
+  short_step.dt = 0.1;
+  const PerturbationResult rdt = Perturb(base, Opening(0, 2), short_step);
+  ASSERT_EQ(rdt.status, "ok");
+  EXPECT_NEAR(rdt.f_crit, r.f_crit, 1e-6 * static_force);
+  EXPECT_LT((rdt.displacement[2] - r.displacement[2]).norm(), 1e-3 * o.gap);
+}
+
+TEST(Perturbation, ContactFrameAndPenetrationDepthOfTheVGroove) {
+  const Scene scene = VGroove(1.2);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const PerturbationResult r = Perturb(base, Opening(0, 2), o);
+  const Vec2 contact_point = scene.particles[0].position + r.axis;  // R = 1 along n
+  EXPECT_LT((r.origin - contact_point).norm(), 1e-12);
+  // One moving disk: δ is the distance of its centre from the contact along the normal.
+  EXPECT_NEAR(r.penetration_depth, std::abs((scene.particles[2].position - r.origin).dot(r.axis)), 1e-12);
+}
+
+// Fixed disk 0, disk 1 on it, a smaller disk 2 on top; frictionless, exactly vertical.
+Scene Column() {
+  Scene s;
+  s.cell.size = Vec2(20.0, 20.0);
+  s.cell.periodicity = Periodicity::kX;
+  s.effects.gravity = Vec2(0.0, -1.0);
+  s.particles = {Disk(5.0, 1.0, 1.0, true), Disk(5.0, 3.0, 1.0), Disk(5.0, 4.5, 0.5)};
+  return WithStaticForces(s);
+}
+
+TEST(Perturbation, LiftingADiskOfAColumnLiftsTheDiskAbove) {
+  const Scene scene = Column();
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const std::vector<PerturbationTarget> bottom = BottomTargets(base);
+  ASSERT_EQ(bottom.size(), 1u);
+  EXPECT_EQ(bottom[0].i, 1);
+  EXPECT_EQ(bottom[0].direction, Vec2(0.0, 1.0));
+  const PerturbationResult r = Perturb(base, bottom[0], o);
+  ASSERT_EQ(r.status, "ok") << r.solve.residual;
+  const double m1 = scene.particles[1].Mass(), m2 = scene.particles[2].Mass();
+  // It carries the disk above, and accelerates it by ξ/Δt within the step (the inertial
+  // part, ξ/Δt² relative to g: 1e-9 here).
+  EXPECT_NEAR(r.f_crit, m2 * (1.0 + o.gap / (o.dt * o.dt)), 1e-12 * m2);
+  EXPECT_NEAR(r.f_reference, m1 + m2, 1e-12);        // F_y: the support from below
+  EXPECT_LT((r.displacement[2] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap);
+}
+
+TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
+  const Scene scene = Column();
+  PerturbationOptions o;
+  o.solver.max_iterations = 2000;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const std::vector<PerturbationTarget> top = TopTargets(base);
+  ASSERT_EQ(top.size(), 1u);
+  EXPECT_EQ(top[0].i, 2);
+  const PerturbationResult r = Perturb(base, top[0], o);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.status, "ok");
+}
+
+TEST(Perturbation, ResultsDoNotDependOnTheThreadCount) {
+  const Scene scene = VGroove(1.3);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const std::vector<PerturbationTarget> targets = {Opening(0, 2), Opening(1, 2), Opening(0, 2)};
+  std::vector<double> one, two;
+  PerturbAll(base, targets, o, 1, [&](int, const PerturbationResult& r) { one.push_back(r.f_crit); });
+  PerturbAll(base, targets, o, 2, [&](int k, const PerturbationResult& r) {
+    EXPECT_EQ(k, static_cast<int>(two.size()));  // in target order
+    two.push_back(r.f_crit);
+  });
+  ASSERT_EQ(one.size(), 3u);
+  EXPECT_EQ(one, two);
+}
+
+TEST(Perturbation, BadTargetsAndOptionsAreRefused) {
+  const Scene scene = VGroove(1.2);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  EXPECT_THROW(Perturb(base, Opening(0, 7), o), std::invalid_argument);
+  EXPECT_THROW(Perturb(base, Shift(0, Vec2(0.0, 1.0)), o), std::invalid_argument);  // fixed
+  PerturbationOptions bad = o;
+  bad.gap = -1e-9;
+  EXPECT_THROW(Validate(bad), std::invalid_argument);
+  Scene bare = scene;
+  bare.forces.clear();
+  EXPECT_THROW(PreparePerturbations(bare, o), std::invalid_argument);
+}
+
+TEST(Perturbation, SampleIsDeterministicAndOrdered) {
+  std::vector<PerturbationTarget> all(50);
+  for (int k = 0; k < 50; ++k) all[k].i = k;
+  const auto a = SampleTargets(all, 10, 7), b = SampleTargets(all, 10, 7), c = SampleTargets(all, 10, 8);
+  ASSERT_EQ(a.size(), 10u);
+  for (int k = 0; k < 10; ++k) EXPECT_EQ(a[k].i, b[k].i);
+  for (int k = 1; k < 10; ++k) EXPECT_LT(a[k - 1].i, a[k].i);
+  bool differs = false;
+  for (int k = 0; k < 10; ++k) differs |= a[k].i != c[k].i;
+  EXPECT_TRUE(differs);
+}
+
+// Frictionless jammed packings are isostatic: the forces are unique, so holding a contact
+// open takes exactly its static force, at fixed pressure as at fixed volume.
+TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const std::vector<PerturbationTarget> targets = SampleTargets(ContactTargets(base), 2, 3);
+  std::vector<ReducedResponse> records;
+  const ResponseLayout layout = MakeLayout(base, EnsembleOptions{}, o.gap);
+  for (const PerturbationTarget& t : targets) {
+    const PerturbationResult r = Perturb(base, t, o);
+    ASSERT_EQ(r.status, "ok") << r.solve.residual;
+    EXPECT_NEAR(r.f_crit / r.f_reference, 1.0, 1e-6);
+    EXPECT_GT(r.penetration_depth, 0.0);
+    records.push_back(Reduce(base, r, layout, EnsembleOptions{}));
+  }
+  const EnsembleSummary summary = Summarize(records, layout, EnsembleOptions{});
+  EXPECT_EQ(summary.used, 2);
+  EXPECT_NEAR(summary.ratio, 1.0, 1e-6);
+  PerturbationOptions volume = o;
+  volume.cell = CellCondition::kFixedVolume;
+  const PerturbationResult v = Perturb(base, targets[0], volume);
+  ASSERT_EQ(v.status, "ok") << v.solve.residual;
+  EXPECT_EQ(v.cell_strain, 0.0);
+  EXPECT_NEAR(v.f_crit / v.f_reference, 1.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace unjam
