@@ -32,7 +32,7 @@ void Validate(const PerturbationOptions& o) {
   };
   require(std::isfinite(o.gap) && o.gap > 0.0, "perturbation gap must be positive and finite");
   require(std::isfinite(o.dt) && o.dt > 0.0, "perturbation time step must be positive and finite");
-  require(o.margin > o.gap, "contact margin must exceed the perturbation gap");
+  require(o.margin > 0.0, "contact margin must be positive");
   require(o.closed_gap_tolerance >= 0.0 && o.closed_gap_tolerance < o.gap,
           "closed-gap tolerance must be below the perturbation gap");
   require(o.response_tolerance > 0.0 && o.response_tolerance < 1.0,
@@ -40,6 +40,10 @@ void Validate(const PerturbationOptions& o) {
   require(o.max_inertia_ratio > 0.0, "inertia ratio threshold must be positive");
   require(o.solver_tolerance >= 0.0, "solver tolerance must be positive");
   Validate(o.solver);
+}
+
+double DetectionMargin(const PerturbationOptions& options) {
+  return std::max(options.margin, 1e3 * options.gap);
 }
 
 double SolverToleranceFor(const PerturbationOptions& options, const PerturbationBase& base) {
@@ -208,7 +212,7 @@ PerturbationBase PreparePerturbations(const Scene& static_scene, const Perturbat
   Validate(options);
   PerturbationBase base;
   base.scene = AtRest(static_scene);
-  base.contacts = DetectContacts(base.scene, options.margin);
+  base.contacts = DetectContacts(base.scene, DetectionMargin(options));
   const ForcesByContact stored(static_scene.forces);
   base.forces.assign(base.contacts.size(), Eigen::Vector2d::Zero());
   for (std::size_t k = 0; k < base.contacts.size(); ++k) {
@@ -241,7 +245,7 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   StaticSolveOptions solve;
   solve.dt = options.dt;
   solve.closed_gap_tolerance = options.closed_gap_tolerance;
-  solve.margin = options.margin;
+  solve.margin = DetectionMargin(options);
   solve.backend = options.backend;
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);

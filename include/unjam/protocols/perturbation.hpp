@@ -34,8 +34,9 @@ struct PerturbationOptions {
   double gap = 1e-9;                    // ξ, length units
   double dt = 1.0;                      // the quasi-static step
   CellCondition cell = CellCondition::kFixedPressure;
-  // Contacts are those of the static state with gap < margin; gaps below
-  // closed_gap_tolerance count as exactly closed. Both well below ξ.
+  // Contacts are those of the static state with gap < max(margin, 1000 ξ) (a response
+  // of size ξ, amplified by lever arms, may close them); gaps below closed_gap_tolerance
+  // count as exactly closed (well below ξ).
   double margin = 1e-6;
   double closed_gap_tolerance = 1e-12;
   std::string backend = "nsgs";
@@ -48,6 +49,7 @@ struct PerturbationOptions {
   double max_inertia_ratio = 1e-6;
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
+double DetectionMargin(const PerturbationOptions& options);
 
 // One perturbation's target: a contact (by key) or a particle and a shift direction.
 struct PerturbationTarget {
