@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
+#include "command_bounds.hpp"
 #include "command_pack.hpp"
 #include "command_perturb.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -43,6 +44,10 @@ int Run(int argc, char** argv) {
   CLI::App* perturb = app.add_subcommand("perturb", "open contacts or shift particles of a static packing, one by one, and measure the response");
   perturb_flags.Register(*perturb);
 
+  BoundsFlags bounds_flags;
+  CLI::App* bounds = app.add_subcommand("bounds", "admissible-force bounds per contact and the degree of force indeterminacy");
+  bounds_flags.Register(*bounds);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -58,6 +63,7 @@ int Run(int argc, char** argv) {
     if (*solve) return RunSolve(solve_file, solver, solve_json, solve_list, solve_output);
     if (*pack) return RunPack(pack_flags);
     if (*perturb) return RunPerturb(perturb_flags);
+    if (*bounds) return RunBounds(bounds_flags);
     return RunMainJob();
   } catch (const unjam::InputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

@@ -39,6 +39,7 @@ EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSy
     out.max_overlap = std::max(out.max_overlap, -c.gap);
     ++contact_count[c.i];
     if (!c.WithWall()) ++contact_count[c.j];
+    out.contact_points.push_back(scene.particles[c.i].position + c.branch_i);
     out.contacts.push_back(std::move(c));
   }
   const int per_particle = out.frictional ? 3 : 2;

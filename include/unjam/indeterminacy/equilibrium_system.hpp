@@ -33,6 +33,7 @@ struct EquilibriumSystemOptions {
 
 struct EquilibriumSystem {
   std::vector<Contact> contacts;       // the closed contacts, the unknowns' order
+  std::vector<Vec2> contact_points;    // per contact: x_i + branch_i (as seen from i)
   bool frictional = false;             // two unknowns per contact, else one
   double mu = 0.0;
   Eigen::SparseMatrix<double> matrix;  // A: rows × UnknownsPerContact()·contacts

@@ -1,0 +1,71 @@
+// Bounds of the admissible normal force of each contact, and the degree of force
+// indeterminacy (docs/indeterminacy.md).
+//
+// The ensemble: every f with A f = b, f_n ≥ 0, |f_t| ≤ μ f_n (equilibrium_system.hpp). Per
+// contact k, three linear programs over it:
+//   min f_n,k        max f_n,k        max f_n,k subject to f_t,k = 0
+// (the last: the largest load the contact can carry while transmitting no tangential force,
+// the load of a pure opening). The constraints are the same for every contact and only the
+// objective changes, so one COIN-OR CLP model is kept and re-optimised by the primal
+// simplex from the previous optimal basis (which stays primal feasible): a warm start.
+//
+// The degree of indeterminacy is dim ker A = unknowns − rank A, the rank from SuiteSparseQR
+// (rank-revealing sparse QR) with the tolerance below.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "unjam/indeterminacy/equilibrium_system.hpp"
+
+namespace unjam {
+
+enum class BoundStatus { kOptimal, kUnbounded, kInfeasible, kFailed };
+const char* ToString(BoundStatus status);
+
+struct Bound {
+  BoundStatus status = BoundStatus::kFailed;
+  double value = 0.0;               // meaningful only when status is kOptimal
+  bool ok() const { return status == BoundStatus::kOptimal; }
+};
+
+struct ContactBounds {
+  int contact = -1;                 // index into EquilibriumSystem::contacts
+  double reference = 0.0;           // f_n of the reference (stored) forces
+  Bound min, max, max_without_friction;
+};
+
+struct BoundsOptions {
+  bool warm_start = true;           // false: every LP from the slack basis (for comparison)
+  double lp_tolerance = 1e-10;      // CLP primal and dual tolerances, relative (forces / F)
+  int threads = 1;                  // contacts split in contiguous blocks, one model each
+};
+
+// The ensemble itself is infeasible when the stored state is not static: checked once.
+struct BoundsReport {
+  std::vector<ContactBounds> bounds;
+  bool feasible = false;
+  std::string message;              // why not, when infeasible
+  double seconds = 0.0;
+  long long lp_iterations = 0;      // simplex iterations over all LPs
+};
+
+// `contacts`: indices into system.contacts. `reference`: the system's unknowns (e.g. the
+// stored forces), reported beside the bounds.
+BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vector<int>& contacts,
+                                const Eigen::VectorXd& reference, const BoundsOptions& options = {});
+
+struct Indeterminacy {
+  int unknowns = 0;                 // force components
+  int equations = 0;                // balance rows
+  int rank = 0;
+  int dimension = 0;                // unknowns − rank
+  double tolerance = 0.0;           // rank tolerance used
+};
+// Rank tolerance: 1e-10 × the largest column 2-norm of A (rows in force units: each entry is
+// a direction cosine, a lever arm or a scaled cell arm), documented in docs/indeterminacy.md.
+Indeterminacy ForceIndeterminacy(const EquilibriumSystem& system);
+
+}  // namespace unjam

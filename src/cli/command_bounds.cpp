@@ -1,0 +1,221 @@
+// `unjam bounds FILE [--contacts all|K,K,...] [--lp clp] [--compare-perturb] ...`
+#include "command_bounds.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <optional>
+#include <thread>
+
+#include "unjam/indeterminacy/force_bounds.hpp"
+#include "unjam/io/packing_file.hpp"
+#include "unjam/protocols/perturbation.hpp"
+
+namespace unjam::cli {
+
+void BoundsFlags::Register(CLI::App& a) {
+  a.add_option("FILE", file, "static packing (.unjam); its stored forces are shown beside the bounds")->required();
+  a.add_option("--contacts", contacts, "all, or K,K,... (the K-th force-carrying contact in the file's force order)")->capture_default_str();
+  a.add_option("--lp", lp, "linear-program backend: clp")->capture_default_str();
+  a.add_flag("--cold", cold, "solve every LP from scratch (no warm start; for comparison)");
+  a.add_flag("--compare-perturb", compare_perturb, "also open each contact (unjam perturb) and compare F_crit with the LP maximum");
+  a.add_option("--mode", mode, "cell condition of --compare-perturb: fixed-pressure or fixed-volume")->capture_default_str();
+  a.add_option("--gap-tol", gap_tolerance, "contacts with a gap up to this are contacts of the ensemble")->capture_default_str();
+  a.add_option("--threads", threads, "threads (0: all cores)")->capture_default_str();
+  a.add_option("-o,--output", output, "CSV file, one row per contact");
+  a.add_flag("--json", json, "one JSON object on stdout");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+int FindKey(const EquilibriumSystem& s, const ContactForce& f) {
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const Contact& c = s.contacts[k];
+    if (c.i == f.i && c.j == f.j && c.image == f.image) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+// System contact indices of the selection: every contact of the ensemble, or the K-th
+// force-carrying contacts of the file (the numbering of `unjam perturb --contact K`).
+std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, const EquilibriumSystem& s) {
+  std::vector<int> out;
+  if (spec == "all") {
+    for (int k = 0; k < static_cast<int>(s.contacts.size()); ++k) out.push_back(k);
+    return out;
+  }
+  std::vector<ContactForce> carrying;
+  for (const ContactForce& f : scene.forces) {
+    if (f.normal > 0.0 && !IsWallIndex(f.j)) carrying.push_back(f);
+  }
+  std::stringstream list(spec);
+  std::string item;
+  while (std::getline(list, item, ',')) {
+    std::size_t used = 0;
+    int k = -1;
+    try {
+      k = std::stoi(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != item.size() || item.empty()) throw std::invalid_argument("--contacts: '" + item + "' is not a contact number (use all, or K,K,...)");
+    if (k < 0 || k >= static_cast<int>(carrying.size())) {
+      throw std::invalid_argument("--contacts: " + item + " is out of range (the packing has " + std::to_string(carrying.size()) + " force-carrying contacts)");
+    }
+    const int index = FindKey(s, carrying[k]);
+    if (index < 0) throw std::invalid_argument("--contacts: contact " + item + " has a gap above --gap-tol");
+    out.push_back(index);
+  }
+  return out;
+}
+
+struct Comparison {
+  std::vector<double> f_crit;        // NaN where the perturbation has no usable response
+  std::vector<std::string> status;
+  int used = 0;
+  double mean_rel_diff = std::nan(""), max_rel_diff = std::nan("");
+};
+
+Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, const BoundsReport& report,
+                                const BoundsFlags& f, int threads) {
+  PerturbationOptions o;
+  o.cell = CellConditionFromString(f.mode);
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  std::vector<PerturbationTarget> targets;
+  for (const ContactBounds& b : report.bounds) {
+    const Contact& c = s.contacts[b.contact];
+    PerturbationTarget t;
+    t.i = c.i;
+    t.j = c.j;
+    t.image = c.image;
+    targets.push_back(t);
+  }
+  Comparison out;
+  out.f_crit.assign(targets.size(), std::nan(""));
+  out.status.assign(targets.size(), "");
+  double sum = 0.0, worst = 0.0;
+  PerturbAll(base, targets, o, threads, [&](int k, const PerturbationResult& r) {
+    out.status[k] = r.status;
+    if (!r.ok()) return;
+    out.f_crit[k] = r.f_crit;
+    const Bound& max = report.bounds[k].max;
+    if (!max.ok() || max.value == 0.0) return;
+    const double rel = std::abs(r.f_crit - max.value) / std::abs(max.value);
+    sum += rel;
+    worst = std::max(worst, rel);
+    ++out.used;
+  });
+  if (out.used > 0) {
+    out.mean_rel_diff = sum / out.used;
+    out.max_rel_diff = worst;
+  }
+  return out;
+}
+
+std::string Number(const Bound& b) {
+  char buf[64];
+  if (!b.ok()) return "";
+  std::snprintf(buf, sizeof buf, "%.17g", b.value);
+  return buf;
+}
+
+std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Comparison* cmp) {
+  std::ostringstream os;
+  os << "contact,i,j,image_x,image_y,f_cont,min,max,max_without_friction,status_min,status_max,status_without_friction";
+  if (cmp) os << ",f_crit,perturbation_status";
+  os << "\n";
+  for (std::size_t a = 0; a < r.bounds.size(); ++a) {
+    const ContactBounds& b = r.bounds[a];
+    const Contact& c = s.contacts[b.contact];
+    char ref[64];
+    std::snprintf(ref, sizeof ref, "%.17g", b.reference);
+    os << b.contact << ',' << c.i << ',' << c.j << ',' << c.image[0] << ',' << c.image[1] << ',' << ref << ','
+       << Number(b.min) << ',' << Number(b.max) << ',' << Number(b.max_without_friction) << ','
+       << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << ToString(b.max_without_friction.status);
+    if (cmp) {
+      char fc[64] = "";
+      if (std::isfinite(cmp->f_crit[a])) std::snprintf(fc, sizeof fc, "%.17g", cmp->f_crit[a]);
+      os << ',' << fc << ',' << cmp->status[a];
+    }
+    os << "\n";
+  }
+  return os.str();
+}
+
+nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+
+}  // namespace
+
+int RunBounds(const BoundsFlags& f) {
+  const auto start = Clock::now();
+  if (f.lp != "clp") throw std::invalid_argument("--lp " + f.lp + ": unknown LP backend (available: clp)");
+  if (!(f.gap_tolerance >= 0.0)) throw std::invalid_argument("--gap-tol must be >= 0");
+  CellConditionFromString(f.mode);
+  const Scene scene = ReadPacking(f.file);
+  if (f.compare_perturb && scene.forces.empty()) {
+    throw InputError(f.file, 0, "stores no static forces, which --compare-perturb starts from: run `unjam solve " + f.file + " -o FILE` first");
+  }
+  EquilibriumSystemOptions so;
+  so.closed_gap_tolerance = f.gap_tolerance;
+  so.margin = std::max(so.margin, f.gap_tolerance);
+  const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
+  const std::vector<int> selected = SelectContacts(f.contacts, scene, system);
+  const int threads = f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency());
+  BoundsOptions bo;
+  bo.warm_start = !f.cold;
+  bo.threads = threads;
+  const BoundsReport report = ComputeForceBounds(system, selected, StoredForcesOf(system, scene.forces), bo);
+  const Indeterminacy nd = ForceIndeterminacy(system);
+  std::optional<Comparison> cmp;
+  if (f.compare_perturb && report.feasible) cmp = ComparePerturbations(scene, system, report, f, threads);
+
+  double width_sum = 0.0, reference_sum = 0.0;
+  int widths = 0, failed = 0, references = 0, no_pure_opening = 0;
+  for (const ContactBounds& b : report.bounds) {
+    if (b.reference > 0.0) {
+      reference_sum += b.reference;
+      ++references;
+    }
+    if (b.max_without_friction.status == BoundStatus::kInfeasible && report.feasible) ++no_pure_opening;
+    if (b.min.ok() && b.max.ok()) {
+      width_sum += b.max.value - b.min.value;
+      ++widths;
+    } else {
+      ++failed;
+    }
+  }
+  if (!f.output.empty()) WriteFileAtomically(f.output, Csv(system, report, cmp ? &*cmp : nullptr));
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  nlohmann::json out = {{"file", f.file}, {"contacts", selected.size()}, {"ensemble_contacts", system.contacts.size()},
+                        {"unknowns", nd.unknowns}, {"equations", nd.equations}, {"rank", nd.rank},
+                        {"rank_tolerance", nd.tolerance}, {"indeterminacy_dimension", nd.dimension},
+                        {"feasible", report.feasible}, {"message", report.message},
+                        {"mean_width", widths > 0 ? nlohmann::json(width_sum / widths) : nlohmann::json(nullptr)},
+                        {"bounded_contacts", widths}, {"unbounded_or_failed", failed},
+                        {"mean_fcont", references > 0 ? nlohmann::json(reference_sum / references) : nlohmann::json(nullptr)},
+                        {"no_frictionless_equilibrium", no_pure_opening},
+                        {"lp", f.lp}, {"warm_start", !f.cold}, {"lp_iterations", report.lp_iterations},
+                        {"lp_seconds", report.seconds}, {"threads", threads}, {"seconds", seconds}};
+  if (cmp) {
+    out["compared"] = cmp->used;
+    out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
+    out["max_rel_diff_fcrit"] = NumberOrNull(cmp->max_rel_diff);
+  }
+  if (!f.output.empty()) out["output"] = f.output;
+  if (f.json) {
+    std::printf("%s\n", out.dump().c_str());
+  } else {
+    std::printf("contacts           %zu of %zu in the ensemble (gap <= %.3g)\n", selected.size(), system.contacts.size(), f.gap_tolerance);
+    std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
+    std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n", nd.dimension, nd.unknowns, nd.rank, nd.tolerance);
+    if (widths > 0) std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n", width_sum / widths, widths, failed);
+    if (cmp) std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
+    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, f.cold ? "cold" : "warm");
+  }
+  return report.feasible ? kOk : kNotConverged;
+}
+
+}  // namespace unjam::cli

@@ -1,0 +1,248 @@
+#include "unjam/indeterminacy/force_bounds.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <thread>
+
+#include <ClpSimplex.hpp>
+#include <CoinPackedMatrix.hpp>
+#include <SuiteSparseQR.hpp>
+
+namespace unjam {
+
+const char* ToString(BoundStatus status) {
+  switch (status) {
+    case BoundStatus::kOptimal: return "optimal";
+    case BoundStatus::kUnbounded: return "unbounded";
+    case BoundStatus::kInfeasible: return "infeasible";
+    case BoundStatus::kFailed: return "failed";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The ensemble as a CLP model over the unknowns f / F (F the force scale, so that CLP's
+// absolute tolerances are relative ones): rows A f = b, then ±f_t − μ f_n ≤ 0.
+std::unique_ptr<ClpSimplex> BuildModel(const EquilibriumSystem& s, double tolerance) {
+  const int n = s.NumUnknowns();
+  std::vector<int> rows, cols;
+  std::vector<double> values, col_lower(n, 0.0), col_upper(n, kInfinity), row_lower, row_upper;
+  for (int r = 0; r < s.NumRows(); ++r) {
+    row_lower.push_back(s.load[r] / s.force_scale);
+    row_upper.push_back(s.load[r] / s.force_scale);
+  }
+  for (int k = 0; k < s.matrix.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(s.matrix, k); it; ++it) {
+      rows.push_back(static_cast<int>(it.row()));
+      cols.push_back(static_cast<int>(it.col()));
+      values.push_back(it.value());
+    }
+  }
+  if (s.frictional) {
+    for (int k = 0; k < n / 2; ++k) {
+      col_lower[2 * k + 1] = -kInfinity;
+      for (double sign : {1.0, -1.0}) {
+        const int row = static_cast<int>(row_lower.size());
+        row_lower.push_back(-kInfinity);
+        row_upper.push_back(0.0);
+        rows.insert(rows.end(), {row, row});
+        cols.insert(cols.end(), {2 * k + 1, 2 * k});
+        values.insert(values.end(), {sign, -s.mu});
+      }
+    }
+  }
+  const CoinPackedMatrix matrix(true, rows.data(), cols.data(), values.data(), static_cast<CoinBigIndex>(values.size()));
+  auto model = std::make_unique<ClpSimplex>();
+  model->setLogLevel(0);
+  const std::vector<double> objective(n, 0.0);
+  model->loadProblem(matrix, col_lower.data(), col_upper.data(), objective.data(), row_lower.data(), row_upper.data());
+  model->setPrimalTolerance(tolerance);
+  model->setDualTolerance(tolerance);
+  return model;
+}
+
+Bound Outcome(ClpSimplex& model, double sign, double scale) {
+  Bound b;
+  if (model.isProvenOptimal()) {
+    b.status = BoundStatus::kOptimal;
+    b.value = sign * model.objectiveValue() * scale;
+  } else if (model.isProvenDualInfeasible()) {
+    b.status = BoundStatus::kUnbounded;
+  } else if (model.isProvenPrimalInfeasible()) {
+    b.status = BoundStatus::kInfeasible;
+  }
+  return b;
+}
+
+// One LP: optimise sign·f_n,k with the current bounds; primal simplex from the current basis
+// (warm), or from the slack basis (cold).
+// CLP's start/finish options 1|2|4: keep the factorisation and work areas between solves
+// and reuse them; only the objective (or one bound) changes from one LP to the next.
+constexpr int kKeepFactorisation = 7;
+
+// Runs one simplex. With `confirm`, an outcome other than optimal is confirmed from the
+// slack basis with the other simplex before it is believed: CLP's dual simplex has reported
+// a feasible pile ensemble infeasible from the slack basis (free tangential columns,
+// degenerate duals). Min and max of a feasible ensemble are always confirmed; the
+// infeasibility of max_without_friction, found by the dual simplex from an optimal basis
+// after one bound is fixed, is common (hundreds of contacts per packing) and is not.
+void Simplex(ClpSimplex& model, bool dual_first, int keep, bool confirm, long long& iterations) {
+  if (dual_first) model.dual(0, keep);
+  else model.primal(0, keep);
+  iterations += model.numberIterations();
+  if (model.isProvenOptimal() || !confirm) return;
+  model.allSlackBasis(true);
+  if (dual_first) model.primal();
+  else model.dual();
+  iterations += model.numberIterations();
+}
+
+Bound Optimise(ClpSimplex& model, int column, double sign, bool warm, bool bounds_changed, double scale,
+               long long& iterations) {
+  model.setObjectiveCoefficient(column, sign);
+  if (!warm) model.allSlackBasis(true);
+  // A tightened bound leaves the basis dual feasible, not primal: dual simplex then.
+  Simplex(model, bounds_changed && warm, warm ? kKeepFactorisation : 0, !bounds_changed, iterations);
+  Bound b = Outcome(model, sign, scale);
+  model.setObjectiveCoefficient(column, 0.0);
+  return b;
+}
+
+// The bound of one kind for contact k.
+enum class Kind { kMin, kMax, kMaxWithoutFriction };
+
+Bound BoundOf(ClpSimplex& model, const EquilibriumSystem& s, int k, Kind kind, const BoundsOptions& o,
+              long long& iterations) {
+  const int normal = s.UnknownsPerContact() * k;
+  if (kind == Kind::kMin) return Optimise(model, normal, 1.0, o.warm_start, false, s.force_scale, iterations);
+  if (kind == Kind::kMax) return Optimise(model, normal, -1.0, o.warm_start, false, s.force_scale, iterations);
+  const int tangential = normal + 1;
+  model.setColumnBounds(tangential, 0.0, 0.0);
+  const Bound b = Optimise(model, normal, -1.0, o.warm_start, true, s.force_scale, iterations);
+  model.setColumnBounds(tangential, -kInfinity, kInfinity);
+  return b;
+}
+
+// Neighbouring contacts have nearby optimal vertices, so each warm start is short when the
+// contacts come in a spatial order: serpentine bands one diameter (2 R_max = 2) high.
+std::vector<int> SpatialOrder(const EquilibriumSystem& s, const std::vector<int>& contacts) {
+  std::vector<int> order(contacts.size());
+  for (std::size_t a = 0; a < order.size(); ++a) order[a] = static_cast<int>(a);
+  auto key = [&](int a) {
+    const Vec2& p = s.contact_points[contacts[a]];
+    const long band = static_cast<long>(std::floor(p.y() / 2.0));
+    return std::pair<long, double>(band, band % 2 == 0 ? p.x() : -p.x());
+  };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  return order;
+}
+
+}  // namespace
+
+BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vector<int>& contacts,
+                                const Eigen::VectorXd& reference, const BoundsOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  BoundsReport report;
+  std::unique_ptr<ClpSimplex> base = BuildModel(system, options.lp_tolerance);
+  Simplex(*base, false, 0, true, report.lp_iterations);  // feasibility; the first basis of every block
+  report.feasible = base->isProvenOptimal();
+  report.bounds.resize(contacts.size());
+  const int stride = system.UnknownsPerContact();
+  if (!report.feasible) {
+    report.message = base->isProvenPrimalInfeasible()
+        ? "no admissible force network: the packing is not static within the gap tolerance (a carrying contact left out, or unbalanced particles)"
+        : "CLP stopped with status " + std::to_string(base->status());
+    for (std::size_t a = 0; a < contacts.size(); ++a) {
+      ContactBounds& b = report.bounds[a];
+      b.contact = contacts[a];
+      b.reference = reference.size() > 0 ? reference[stride * contacts[a]] : 0.0;
+      b.min.status = b.max.status = b.max_without_friction.status = BoundStatus::kInfeasible;
+    }
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+  }
+  const int blocks = std::max(1, std::min<int>(options.threads, static_cast<int>(contacts.size())));
+  std::vector<long long> iterations(blocks, 0);
+  // Blocks of the spatial order; within a block all minima, then all maxima, then the
+  // maxima without friction: successive LPs differ least.
+  const std::vector<int> order = SpatialOrder(system, contacts);
+  for (std::size_t a = 0; a < contacts.size(); ++a) {
+    report.bounds[a].contact = contacts[a];
+    report.bounds[a].reference = reference.size() > 0 ? reference[stride * contacts[a]] : 0.0;
+  }
+  auto run_block = [&](int block) {
+    ClpSimplex model(*base);
+    const std::size_t first = order.size() * block / blocks;
+    const std::size_t last = order.size() * (block + 1) / blocks;
+    for (Kind kind : {Kind::kMin, Kind::kMax, Kind::kMaxWithoutFriction}) {
+      if (kind == Kind::kMaxWithoutFriction && !system.frictional) {  // the same LP as max
+        for (std::size_t a = first; a < last; ++a) report.bounds[order[a]].max_without_friction = report.bounds[order[a]].max;
+        continue;
+      }
+      for (std::size_t a = first; a < last; ++a) {
+        ContactBounds& b = report.bounds[order[a]];
+        const Bound bound = BoundOf(model, system, b.contact, kind, options, iterations[block]);
+        (kind == Kind::kMin ? b.min : kind == Kind::kMax ? b.max : b.max_without_friction) = bound;
+      }
+    }
+  };
+  if (blocks == 1) {
+    run_block(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (int b = 0; b < blocks; ++b) pool.emplace_back(run_block, b);
+    for (std::thread& t : pool) t.join();
+  }
+  for (long long i : iterations) report.lp_iterations += i;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+Indeterminacy ForceIndeterminacy(const EquilibriumSystem& system) {
+  Indeterminacy out;
+  const Eigen::SparseMatrix<double>& a = system.matrix;
+  out.unknowns = static_cast<int>(a.cols());
+  out.equations = static_cast<int>(a.rows());
+  double largest = 0.0;
+  for (int k = 0; k < a.outerSize(); ++k) {
+    double norm2 = 0.0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it) norm2 += it.value() * it.value();
+    largest = std::max(largest, std::sqrt(norm2));
+  }
+  out.tolerance = 1e-10 * largest;
+  if (a.nonZeros() == 0) {
+    out.dimension = out.unknowns;
+    return out;
+  }
+  cholmod_common cc;
+  cholmod_l_start(&cc);
+  cholmod_sparse* m = cholmod_l_allocate_sparse(a.rows(), a.cols(), a.nonZeros(), 1, 1, 0, CHOLMOD_REAL, &cc);
+  auto* p = static_cast<SuiteSparse_long*>(m->p);
+  auto* i = static_cast<SuiteSparse_long*>(m->i);
+  auto* x = static_cast<double*>(m->x);
+  Eigen::SparseMatrix<double> compressed = a;
+  compressed.makeCompressed();
+  for (int k = 0; k <= compressed.cols(); ++k) p[k] = compressed.outerIndexPtr()[k];
+  for (int k = 0; k < compressed.nonZeros(); ++k) {
+    i[k] = compressed.innerIndexPtr()[k];
+    x[k] = compressed.valuePtr()[k];
+  }
+  cholmod_sparse* r = nullptr;
+  SuiteSparse_long* e = nullptr;
+  const SuiteSparse_long rank = SuiteSparseQR<double>(SPQR_ORDERING_DEFAULT, out.tolerance, 0, m, &r, &e, &cc);
+  out.rank = static_cast<int>(rank);
+  out.dimension = out.unknowns - out.rank;
+  cholmod_l_free_sparse(&r, &cc);
+  if (e != nullptr) cholmod_l_free(a.cols(), sizeof(SuiteSparse_long), e, &cc);
+  cholmod_l_free_sparse(&m, &cc);
+  cholmod_l_finish(&cc);
+  return out;
+}
+
+}  // namespace unjam

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# `unjam bounds`: the frictionless V-groove (one network: zero width, F_crit = LP max), the
+# frictional one (the analytic interval), CSV and JSON, and bad input.
+# Usage: cli_bounds.sh UNJAM_BINARY SOURCE_DIR
+set -u
+unjam="$1"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+groove() {  # friction output
+  printf 'unjam-packing 1\ncell 10 10\ngravity 0 -1\nfriction %s\nparticles 3\n3.8 1 0 0 0 0 1 1 1\n6.2 1 0 0 0 0 1 1 1\n5 2.6 0 0 0 0 1 1 0\nend\n' "$1" >"$work/bare.unjam"
+  "$unjam" solve "$work/bare.unjam" --tol 1e-14 -o "$2" >/dev/null || fail "solve: exit $?"
+}
+groove 0 "$work/g0.unjam"
+groove 0.5 "$work/g5.unjam"
+
+"$unjam" bounds "$work/g0.unjam" --json --compare-perturb --threads 1 -o "$work/g0.csv" >"$work/g0.json" || fail "bounds g0: exit $?"
+/usr/bin/python3 - "$work/g0.json" "$work/g0.csv" <<'PY' || fail "frictionless groove"
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+for key in ("contacts", "rank", "indeterminacy_dimension", "mean_width", "seconds", "max_rel_diff_fcrit"):
+    assert key in d, key
+assert d["contacts"] == 2 and d["indeterminacy_dimension"] == 0 and d["feasible"], d
+assert abs(d["mean_width"]) < 1e-12, d["mean_width"]
+assert d["compared"] == 2 and d["max_rel_diff_fcrit"] < 1e-6, d
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert len(rows) == 2
+for r in rows:
+    assert abs(float(r["max"]) - math.pi / 1.6) < 1e-10, r
+    assert abs(float(r["f_crit"]) - float(r["max"])) < 1e-6, r
+PY
+
+"$unjam" bounds "$work/g5.unjam" --json -o "$work/g5.csv" >"$work/g5.json" || fail "bounds g5: exit $?"
+/usr/bin/python3 - "$work/g5.json" "$work/g5.csv" <<'PY' || fail "frictional groove"
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["indeterminacy_dimension"] == 1, d
+for r in csv.DictReader(open(sys.argv[2])):
+    assert abs(float(r["min"]) - math.pi / 2.2) < 1e-10, r
+    assert abs(float(r["max"]) - math.pi / 1.0) < 1e-10, r
+    assert abs(float(r["max_without_friction"]) - math.pi / 1.6) < 1e-10, r
+PY
+
+"$unjam" bounds "$work/g5.unjam" --contacts 1 --json >"$work/one.json" || fail "--contacts 1: exit $?"
+grep -q '"contacts":1' "$work/one.json" || fail "--contacts 1 did not select one contact"
+
+check() {  # expected-exit description args...
+  local want="$1" what="$2"; shift 2
+  "$unjam" bounds "$@" -o "$work/bad.csv" >/dev/null 2>"$work/err"; local code=$?
+  [ "$code" -eq "$want" ] || fail "$what: exit $code, expected $want"
+  [ -s "$work/err" ] || fail "$what: no error message"
+  [ ! -e "$work/bad.csv" ] || { fail "$what: left a CSV"; rm -f "$work/bad.csv"; }
+}
+check 2 "--contacts x" "$work/g5.unjam" --contacts x
+check 2 "--contacts 9" "$work/g5.unjam" --contacts 9
+check 2 "--lp simplex" "$work/g5.unjam" --lp simplex
+check 2 "--mode bogus" "$work/g5.unjam" --mode bogus
+check 1 "missing file" "$work/none.unjam"
+
+echo "cli_bounds: $failures failures"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,181 @@
+// Admissible-force bounds and the degree of indeterminacy on cases with known answers: a
+// disk in a V-groove (frictionless: a single network; frictional: the analytic interval, or
+// no upper bound when friction can wedge the disk), a disk on a floor between two walls
+// (hyperstatic: the squeeze between the walls is free), and the frictionless bundled
+// packing (isostatic: zero widths, no indeterminacy).
+#include <cmath>
+#include <numbers>
+#include <tuple>
+
+#include <gtest/gtest.h>
+
+#include "test_scenes.hpp"
+#include "unjam/indeterminacy/force_bounds.hpp"
+#include "unjam/io/packing_file.hpp"
+
+namespace unjam {
+namespace {
+
+using testing::Disk;
+using testing::Floor;
+
+// Disk 2 (radius 1) on fixed disks 0 and 1 (radius 1) at x = ∓a; h = √(4 − a²).
+Scene Groove(double a, double mu) {
+  Scene s;
+  s.cell.size = Vec2(20, 20);
+  s.effects.gravity = Vec2(0.0, -1.0);
+  s.effects.friction = mu;
+  s.particles = {Disk(-a, 0.0, 1.0, true), Disk(a, 0.0, 1.0, true), Disk(0.0, std::sqrt(4.0 - a * a), 1.0)};
+  return s;
+}
+
+std::vector<int> AllContacts(const EquilibriumSystem& s) {
+  std::vector<int> all(s.contacts.size());
+  for (std::size_t k = 0; k < all.size(); ++k) all[k] = static_cast<int>(k);
+  return all;
+}
+
+TEST(ForceBounds, FrictionlessVGrooveHasOneNetwork) {
+  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(1.2, 0.0));
+  const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});
+  ASSERT_TRUE(r.feasible);
+  const double weight = std::numbers::pi, h = 1.6;
+  for (const ContactBounds& b : r.bounds) {
+    ASSERT_TRUE(b.min.ok() && b.max.ok());
+    EXPECT_NEAR(b.min.value, weight / h, 1e-12);
+    EXPECT_NEAR(b.max.value, weight / h, 1e-12);
+  }
+  const Indeterminacy nd = ForceIndeterminacy(s);
+  EXPECT_EQ(nd.unknowns, 2);
+  EXPECT_EQ(nd.rank, 2);
+  EXPECT_EQ(nd.dimension, 0);
+}
+
+// Balance of the frictional groove: f_L = f_R = f, tangential forces ±s, h f + a s = m g,
+// |s| ≤ μ f. Hence f ∈ [m g/(h + μ a), m g/(h − μ a)] (unbounded if h ≤ μ a), and m g / h
+// when the contact transmits no tangential force.
+TEST(ForceBounds, FrictionalVGrooveHasTheAnalyticInterval) {
+  const double a = 1.2, h = 1.6, mu = 0.5, weight = std::numbers::pi;
+  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(a, mu));
+  const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});
+  ASSERT_TRUE(r.feasible);
+  for (const ContactBounds& b : r.bounds) {
+    ASSERT_TRUE(b.min.ok() && b.max.ok() && b.max_without_friction.ok());
+    EXPECT_NEAR(b.min.value, weight / (h + mu * a), 1e-10);
+    EXPECT_NEAR(b.max.value, weight / (h - mu * a), 1e-10);
+    EXPECT_NEAR(b.max_without_friction.value, weight / h, 1e-10);
+  }
+  EXPECT_EQ(ForceIndeterminacy(s).dimension, 1);  // 4 unknowns, 3 equations
+}
+
+TEST(ForceBounds, FrictionThatCanWedgeTheDiskLeavesNoUpperBound) {
+  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(1.2, 2.0));  // h < μ a
+  const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});
+  ASSERT_TRUE(r.feasible);
+  for (const ContactBounds& b : r.bounds) {
+    EXPECT_EQ(b.max.status, BoundStatus::kUnbounded);
+    ASSERT_TRUE(b.min.ok());
+    EXPECT_NEAR(b.min.value, std::numbers::pi / (1.6 + 2.0 * 1.2), 1e-10);
+  }
+}
+
+// A disk on a floor touching two walls: the walls may squeeze it with any equal forces.
+Scene BetweenWalls(double mu) {
+  Scene s;
+  s.cell.size = Vec2(2.0, 10.0);
+  s.cell.walls = {Floor(), Wall{Vec2(0.0, 0.0), Vec2(1.0, 0.0)}, Wall{Vec2(2.0, 0.0), Vec2(-1.0, 0.0)}};
+  s.effects.gravity = Vec2(0.0, -1.0);
+  s.effects.friction = mu;
+  s.particles = {Disk(1.0, 1.0, 1.0)};
+  return s;
+}
+
+TEST(ForceBounds, HyperstaticDiskBetweenWallsHasAFreeSqueeze) {
+  const EquilibriumSystem s = BuildEquilibriumSystem(BetweenWalls(0.0));
+  ASSERT_EQ(s.contacts.size(), 3u);
+  const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});
+  ASSERT_TRUE(r.feasible);
+  int floors = 0;
+  for (const ContactBounds& b : r.bounds) {
+    const bool floor = s.contacts[b.contact].normal.y() < -0.5;  // from the disk down to the floor
+    if (floor) {
+      ++floors;
+      EXPECT_NEAR(b.min.value, std::numbers::pi, 1e-12);
+      EXPECT_NEAR(b.max.value, std::numbers::pi, 1e-12);
+    } else {
+      EXPECT_NEAR(b.min.value, 0.0, 1e-12);
+      EXPECT_EQ(b.max.status, BoundStatus::kUnbounded);
+    }
+  }
+  EXPECT_EQ(floors, 1);
+  EXPECT_EQ(ForceIndeterminacy(s).dimension, 1);                                    // 3 − 2
+  EXPECT_EQ(ForceIndeterminacy(BuildEquilibriumSystem(BetweenWalls(0.5))).dimension, 3);  // 6 − 3
+}
+
+TEST(ForceBounds, AnUnsupportedDiskHasNoAdmissibleNetwork) {
+  Scene s = Groove(1.2, 0.0);
+  s.particles[2].position.x() += 0.5;  // off the left support: only one contact left
+  s.particles[2].position.y() = std::sqrt(4.0 - 0.7 * 0.7);
+  const EquilibriumSystem system = BuildEquilibriumSystem(s);
+  const BoundsReport r = ComputeForceBounds(system, AllContacts(system), {});
+  EXPECT_FALSE(r.feasible);
+  EXPECT_FALSE(r.message.empty());
+  for (const ContactBounds& b : r.bounds) EXPECT_EQ(b.max.status, BoundStatus::kInfeasible);
+}
+
+TEST(ForceBounds, FrictionlessPackingIsIsostaticWithZeroWidths) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  const BoundsReport r = ComputeForceBounds(s, AllContacts(s), StoredForcesOf(s, scene.forces));
+  ASSERT_TRUE(r.feasible);
+  for (const ContactBounds& b : r.bounds) {
+    ASSERT_TRUE(b.min.ok() && b.max.ok());
+    EXPECT_LT(b.max.value - b.min.value, 1e-8 * s.force_scale);
+    // The stored forces balance to about 1e-7 (this file predates the certificate
+    // protocol, docs/packings.md); the unique network is theirs to that accuracy.
+    EXPECT_NEAR(b.max.value, b.reference, 1e-6 * s.force_scale);
+  }
+  EXPECT_EQ(ForceIndeterminacy(s).dimension, 0);
+}
+
+// A pile under gravity: the stored (static) forces are one admissible network, so every
+// interval holds them. CLP's dual simplex once called this ensemble infeasible.
+TEST(ForceBounds, PileIntervalsHoldTheStoredForces) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  const BoundsReport r = ComputeForceBounds(s, AllContacts(s), StoredForcesOf(s, scene.forces));
+  ASSERT_TRUE(r.feasible) << r.message;
+  for (const ContactBounds& b : r.bounds) {
+    ASSERT_TRUE(b.min.ok());
+    EXPECT_LE(b.min.value, b.reference + 1e-9 * s.force_scale);
+    if (b.max.ok()) EXPECT_GE(b.max.value, b.reference - 1e-9 * s.force_scale);
+  }
+}
+
+// Warm starts, cold starts and threads give the same bounds.
+TEST(ForceBounds, WarmColdAndThreadedAgree) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  const std::vector<int> some = {0, 17, 101, 230, 402, 599};
+  BoundsOptions warm, cold, threaded;
+  cold.warm_start = false;
+  threaded.threads = 2;
+  const BoundsReport a = ComputeForceBounds(s, some, {}, warm);
+  const BoundsReport b = ComputeForceBounds(s, some, {}, cold);
+  const BoundsReport c = ComputeForceBounds(s, some, {}, threaded);
+  for (std::size_t k = 0; k < some.size(); ++k) {
+    for (const auto& [x, y, z] : {std::tuple{a.bounds[k].min, b.bounds[k].min, c.bounds[k].min},
+                                  std::tuple{a.bounds[k].max, b.bounds[k].max, c.bounds[k].max},
+                                  std::tuple{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction,
+                                             c.bounds[k].max_without_friction}}) {
+      ASSERT_EQ(x.status, y.status);
+      ASSERT_EQ(x.status, z.status);
+      if (!x.ok()) continue;
+      EXPECT_NEAR(x.value, y.value, 1e-8 * s.force_scale);
+      EXPECT_NEAR(x.value, z.value, 1e-8 * s.force_scale);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace unjam
