@@ -148,7 +148,9 @@ TEST(ForceBounds, PileIntervalsHoldTheStoredForces) {
   for (const ContactBounds& b : r.bounds) {
     ASSERT_TRUE(b.min.ok());
     EXPECT_LE(b.min.value, b.reference + 1e-9 * s.force_scale);
-    if (b.max.ok()) EXPECT_GE(b.max.value, b.reference - 1e-9 * s.force_scale);
+    if (b.max.ok()) {
+      EXPECT_GE(b.max.value, b.reference - 1e-9 * s.force_scale);
+    }
   }
 }
 
