@@ -17,7 +17,7 @@ namespace unjam::cli {
 void BoundsFlags::Register(CLI::App& a) {
   a.add_option("FILE", file, "static packing (.unjam); its stored forces are shown beside the bounds")->required();
   a.add_option("--contacts", contacts, "all, or K,K,... (the K-th force-carrying contact in the file's force order)")->capture_default_str();
-  a.add_option("--lp", lp, "linear-program backend: clp")->capture_default_str();
+  a.add_option("--lp", lp, "linear-program backend: clp (simplex, warm starts) or ipopt (interior point)")->capture_default_str();
   a.add_flag("--cold", cold, "solve every LP from scratch (no warm start; for comparison)");
   a.add_flag("--compare-perturb", compare_perturb, "also open each contact (unjam perturb) and compare F_crit with the LP maximum");
   a.add_option("--mode", mode, "cell condition of --compare-perturb: fixed-pressure or fixed-volume")->capture_default_str();
@@ -151,7 +151,7 @@ nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json
 
 int RunBounds(const BoundsFlags& f) {
   const auto start = Clock::now();
-  if (f.lp != "clp") throw std::invalid_argument("--lp " + f.lp + ": unknown LP backend (available: clp)");
+  const LpBackend lp = LpBackendFromString(f.lp);
   if (!(f.gap_tolerance >= 0.0)) throw std::invalid_argument("--gap-tol must be >= 0");
   CellConditionFromString(f.mode);
   const Scene scene = ReadPacking(f.file);
@@ -166,6 +166,7 @@ int RunBounds(const BoundsFlags& f) {
   const int threads = f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency());
   BoundsOptions bo;
   bo.warm_start = !f.cold;
+  bo.lp = lp;
   bo.threads = threads;
   const BoundsReport report = ComputeForceBounds(system, selected, StoredForcesOf(system, scene.forces), bo);
   const Indeterminacy nd = ForceIndeterminacy(system);
@@ -197,8 +198,8 @@ int RunBounds(const BoundsFlags& f) {
                         {"bounded_contacts", widths}, {"unbounded_or_failed", failed},
                         {"mean_fcont", references > 0 ? nlohmann::json(reference_sum / references) : nlohmann::json(nullptr)},
                         {"no_frictionless_equilibrium", no_pure_opening},
-                        {"lp", f.lp}, {"warm_start", !f.cold}, {"lp_iterations", report.lp_iterations},
-                        {"lp_seconds", report.seconds}, {"threads", threads}, {"seconds", seconds}};
+                        {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", report.lp_iterations},
+                        {"lp_seconds", report.seconds}, {"threads", lp == LpBackend::kIpopt ? 1 : threads}, {"seconds", seconds}};
   if (cmp) {
     out["compared"] = cmp->used;
     out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
@@ -213,7 +214,7 @@ int RunBounds(const BoundsFlags& f) {
     std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n", nd.dimension, nd.unknowns, nd.rank, nd.tolerance);
     if (widths > 0) std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n", width_sum / widths, widths, failed);
     if (cmp) std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
-    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, f.cold ? "cold" : "warm");
+    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
   }
   return report.feasible ? kOk : kNotConverged;
 }

@@ -5,11 +5,14 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <thread>
 
 #include <ClpSimplex.hpp>
 #include <CoinPackedMatrix.hpp>
 #include <SuiteSparseQR.hpp>
+
+#include "ipopt_lp.hpp"
 
 namespace unjam {
 
@@ -21,6 +24,14 @@ const char* ToString(BoundStatus status) {
     case BoundStatus::kFailed: return "failed";
   }
   return "?";
+}
+
+const char* ToString(LpBackend backend) { return backend == LpBackend::kClp ? "clp" : "ipopt"; }
+
+LpBackend LpBackendFromString(const std::string& name) {
+  if (name == "clp") return LpBackend::kClp;
+  if (name == "ipopt") return LpBackend::kIpopt;
+  throw std::invalid_argument("unknown LP backend '" + name + "' (available: clp, ipopt)");
 }
 
 namespace {
@@ -120,6 +131,10 @@ enum class Kind { kMin, kMax, kMaxWithoutFriction };
 Bound BoundOf(ClpSimplex& model, const EquilibriumSystem& s, int k, Kind kind, const BoundsOptions& o,
               long long& iterations) {
   const int normal = s.UnknownsPerContact() * k;
+  if (o.lp == LpBackend::kIpopt) {
+    const int fixed = kind == Kind::kMaxWithoutFriction ? normal + 1 : -1;
+    return indeterminacy_internal::IpoptBound(s, normal, kind == Kind::kMin ? 1.0 : -1.0, fixed, o.lp_tolerance, iterations);
+  }
   if (kind == Kind::kMin) return Optimise(model, normal, 1.0, o.warm_start, false, s.force_scale, iterations);
   if (kind == Kind::kMax) return Optimise(model, normal, -1.0, o.warm_start, false, s.force_scale, iterations);
   const int tangential = normal + 1;
@@ -167,7 +182,8 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
   }
-  const int blocks = std::max(1, std::min<int>(options.threads, static_cast<int>(contacts.size())));
+  const int threads = options.lp == LpBackend::kIpopt ? 1 : options.threads;
+  const int blocks = std::max(1, std::min<int>(threads, static_cast<int>(contacts.size())));
   std::vector<long long> iterations(blocks, 0);
   // Blocks of the spatial order; within a block all minima, then all maxima, then the
   // maxima without friction: successive LPs differ least.

@@ -43,6 +43,14 @@ for r in csv.DictReader(open(sys.argv[2])):
     assert abs(float(r["max_without_friction"]) - math.pi / 1.6) < 1e-10, r
 PY
 
+"$unjam" bounds "$work/g5.unjam" --lp ipopt -o "$work/g5i.csv" >/dev/null || fail "--lp ipopt: exit $?"
+/usr/bin/python3 - "$work/g5i.csv" <<'PY' || fail "ipopt bounds of the frictional groove"
+import csv, math, sys
+for r in csv.DictReader(open(sys.argv[1])):
+    assert abs(float(r["min"]) - math.pi / 2.2) < 1e-6, r
+    assert abs(float(r["max"]) - math.pi / 1.0) < 1e-6, r
+PY
+
 "$unjam" bounds "$work/g5.unjam" --contacts 1 --json >"$work/one.json" || fail "--contacts 1: exit $?"
 grep -q '"contacts":1' "$work/one.json" || fail "--contacts 1 did not select one contact"
 

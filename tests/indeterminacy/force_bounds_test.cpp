@@ -68,6 +68,24 @@ TEST(ForceBounds, FrictionalVGrooveHasTheAnalyticInterval) {
   EXPECT_EQ(ForceIndeterminacy(s).dimension, 1);  // 4 unknowns, 3 equations
 }
 
+// The two LP backends, an exact simplex and an interior point, agree on the analytic case.
+TEST(ForceBounds, ClpAndIpoptAgree) {
+  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(1.2, 0.5));
+  BoundsOptions ipopt;
+  ipopt.lp = LpBackend::kIpopt;
+  const BoundsReport a = ComputeForceBounds(s, AllContacts(s), {});
+  const BoundsReport b = ComputeForceBounds(s, AllContacts(s), {}, ipopt);
+  ASSERT_TRUE(a.feasible && b.feasible);
+  for (std::size_t k = 0; k < a.bounds.size(); ++k) {
+    for (const auto& [x, y] : {std::pair{a.bounds[k].min, b.bounds[k].min}, std::pair{a.bounds[k].max, b.bounds[k].max},
+                               std::pair{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction}}) {
+      ASSERT_TRUE(x.ok() && y.ok());
+      EXPECT_NEAR(x.value, y.value, 1e-6 * x.value);
+    }
+  }
+  EXPECT_THROW(LpBackendFromString("simplex"), std::invalid_argument);
+}
+
 TEST(ForceBounds, FrictionThatCanWedgeTheDiskLeavesNoUpperBound) {
   const EquilibriumSystem s = BuildEquilibriumSystem(Groove(1.2, 2.0));  // h < μ a
   const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});

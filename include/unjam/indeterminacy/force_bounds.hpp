@@ -37,9 +37,17 @@ struct ContactBounds {
   Bound min, max, max_without_friction;
 };
 
+enum class LpBackend { kClp, kIpopt };
+const char* ToString(LpBackend backend);
+LpBackend LpBackendFromString(const std::string& name);  // throws std::invalid_argument
+
 struct BoundsOptions {
-  bool warm_start = true;           // false: every LP from the slack basis (for comparison)
-  double lp_tolerance = 1e-10;      // CLP primal and dual tolerances, relative (forces / F)
+  // CLP (exact simplex, warm-started) or Ipopt (interior point, every LP from scratch; one
+  // thread: Ipopt with sequential MUMPS is not thread-safe). The feasibility check of the
+  // ensemble is CLP's in both cases.
+  LpBackend lp = LpBackend::kClp;
+  bool warm_start = true;           // CLP: false = every LP from the slack basis (for comparison)
+  double lp_tolerance = 1e-10;      // CLP primal and dual tolerances, Ipopt's tol; relative (forces / F)
   int threads = 1;                  // contacts split in contiguous blocks, one model each
 };
 
