@@ -338,11 +338,16 @@ std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base) {
   return PerBin(base, Vec2(0.0, 1.0), [](double y, double best) { return y < best; });
 }
 
-std::vector<PerturbationResult> PerturbAll(
-    const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
-    const PerturbationOptions& options, int threads,
-    const std::function<void(int, const PerturbationResult&)>& on_result) {
+void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
+                const PerturbationOptions& options, int threads,
+                const std::function<void(int, const PerturbationResult&)>& on_result) {
   const int n = static_cast<int>(targets.size());
+  if (threads <= 1) {  // in order, here, each result reported as soon as it exists
+    for (int k = 0; k < n; ++k) on_result(k, Perturb(base, targets[k], options));
+    return;
+  }
+  // Workers take targets in order; this thread reports results in target order as they
+  // arrive and frees each once reported, so only results that finished early are held.
   std::vector<std::optional<PerturbationResult>> results(n);
   std::mutex mutex;
   std::condition_variable ready;
@@ -363,24 +368,19 @@ std::vector<PerturbationResult> PerturbAll(
       ready.notify_all();
     }
   };
-  // One thread: in order, here. More: workers, while this thread reports.
   std::vector<std::thread> pool;
-  if (threads <= 1) work();
-  else for (int t = 0; t < threads; ++t) pool.emplace_back(work);
-  // Report in target order as results arrive.
+  for (int t = 0; t < threads; ++t) pool.emplace_back(work);
   for (int k = 0; k < n; ++k) {
     std::unique_lock<std::mutex> lock(mutex);
     ready.wait(lock, [&] { return results[k].has_value() || failure; });
     if (failure) break;
+    PerturbationResult r = std::move(*results[k]);
+    results[k].reset();
     lock.unlock();
-    if (on_result) on_result(k, *results[k]);
+    on_result(k, r);
   }
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);
-  std::vector<PerturbationResult> out;
-  out.reserve(n);
-  for (auto& r : results) out.push_back(std::move(*r));
-  return out;
 }
 
 }  // namespace unjam

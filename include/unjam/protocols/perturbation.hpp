@@ -126,12 +126,13 @@ std::vector<PerturbationTarget> SampleTargets(std::vector<PerturbationTarget> al
 std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base);
 std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base);
 
-// Runs the targets on `threads` threads; result k belongs to target k, whatever the
-// thread count (each perturbation is deterministic). `on_result` (may be empty) is called
-// in target order as results complete, from the calling thread.
-std::vector<PerturbationResult> PerturbAll(
-    const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
-    const PerturbationOptions& options, int threads,
-    const std::function<void(int, const PerturbationResult&)>& on_result = {});
+// Runs the targets on `threads` threads and reports each result to `on_result` (called
+// from the calling thread, in target order, as soon as a result and all before it exist),
+// without keeping them: an ensemble of large packings needs the memory of a few results.
+// Result k belongs to target k whatever the thread count (each perturbation is
+// deterministic). An exception in a perturbation is rethrown after the workers stop.
+void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
+                const PerturbationOptions& options, int threads,
+                const std::function<void(int, const PerturbationResult&)>& on_result);
 
 }  // namespace unjam
