@@ -153,6 +153,19 @@ TEST(Perturbation, ResultsDoNotDependOnTheThreadCount) {
   EXPECT_EQ(one, two);
 }
 
+// On one thread each result is reported before the next perturbation starts (a long run
+// records what it has solved when a later perturbation fails or the run is killed).
+TEST(Perturbation, OneThreadReportsEachResultBeforeTheNext) {
+  const Scene scene = VGroove(1.2);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  int reported = 0;
+  EXPECT_THROW(PerturbAll(base, {Opening(0, 2), Opening(0, 9)}, o, 1,
+                          [&](int, const PerturbationResult&) { ++reported; }),
+               std::invalid_argument);
+  EXPECT_EQ(reported, 1);
+}
+
 TEST(Perturbation, BadTargetsAndOptionsAreRefused) {
   const Scene scene = VGroove(1.2);
   PerturbationOptions o;
