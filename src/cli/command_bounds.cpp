@@ -191,7 +191,7 @@ int RunBounds(const BoundsFlags& f) {
   if (!f.output.empty()) WriteFileAtomically(f.output, Csv(system, report, cmp ? &*cmp : nullptr));
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   nlohmann::json out = {{"file", f.file}, {"contacts", selected.size()}, {"ensemble_contacts", system.contacts.size()},
-                        {"unknowns", nd.unknowns}, {"equations", nd.equations}, {"rank", nd.rank},
+                        {"unknowns", nd.unknowns}, {"equations", nd.equations}, {"rank", nd.rank}, {"rank_qr_a", nd.rank_of_a}, {"rank_qr_transpose", nd.rank_transposed},
                         {"rank_tolerance", nd.tolerance}, {"indeterminacy_dimension", nd.dimension},
                         {"feasible", report.feasible}, {"message", report.message},
                         {"mean_width", widths > 0 ? nlohmann::json(width_sum / widths) : nlohmann::json(nullptr)},
@@ -212,6 +212,7 @@ int RunBounds(const BoundsFlags& f) {
     std::printf("contacts           %zu of %zu in the ensemble (gap <= %.3g)\n", selected.size(), system.contacts.size(), f.gap_tolerance);
     std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
     std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n", nd.dimension, nd.unknowns, nd.rank, nd.tolerance);
+    if (nd.rank_transposed != nd.rank_of_a) std::printf("                   (QR estimates of the rank: %d from A, %d from its transpose)\n", nd.rank_of_a, nd.rank_transposed);
     if (widths > 0) std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n", width_sum / widths, widths, failed);
     if (cmp) std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
     std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");

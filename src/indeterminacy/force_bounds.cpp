@@ -220,30 +220,29 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
   return report;
 }
 
-Indeterminacy ForceIndeterminacy(const EquilibriumSystem& system) {
-  Indeterminacy out;
-  const Eigen::SparseMatrix<double>& a = system.matrix;
-  out.unknowns = static_cast<int>(a.cols());
-  out.equations = static_cast<int>(a.rows());
+namespace {
+
+double LargestColumnNorm(const Eigen::SparseMatrix<double>& a) {
   double largest = 0.0;
   for (int k = 0; k < a.outerSize(); ++k) {
     double norm2 = 0.0;
     for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it) norm2 += it.value() * it.value();
     largest = std::max(largest, std::sqrt(norm2));
   }
-  out.tolerance = 1e-10 * largest;
-  if (a.nonZeros() == 0) {
-    out.dimension = out.unknowns;
-    return out;
-  }
+  return largest;
+}
+
+// Rank estimate of a sparse matrix by SuiteSparseQR (long-index API).
+int SparseRank(const Eigen::SparseMatrix<double>& a, double tolerance) {
+  if (a.nonZeros() == 0) return 0;
   cholmod_common cc;
   cholmod_l_start(&cc);
+  Eigen::SparseMatrix<double> compressed = a;
+  compressed.makeCompressed();
   cholmod_sparse* m = cholmod_l_allocate_sparse(a.rows(), a.cols(), a.nonZeros(), 1, 1, 0, CHOLMOD_REAL, &cc);
   auto* p = static_cast<SuiteSparse_long*>(m->p);
   auto* i = static_cast<SuiteSparse_long*>(m->i);
   auto* x = static_cast<double*>(m->x);
-  Eigen::SparseMatrix<double> compressed = a;
-  compressed.makeCompressed();
   for (int k = 0; k <= compressed.cols(); ++k) p[k] = compressed.outerIndexPtr()[k];
   for (int k = 0; k < compressed.nonZeros(); ++k) {
     i[k] = compressed.innerIndexPtr()[k];
@@ -251,13 +250,59 @@ Indeterminacy ForceIndeterminacy(const EquilibriumSystem& system) {
   }
   cholmod_sparse* r = nullptr;
   SuiteSparse_long* e = nullptr;
-  const SuiteSparse_long rank = SuiteSparseQR<double>(SPQR_ORDERING_DEFAULT, out.tolerance, 0, m, &r, &e, &cc);
-  out.rank = static_cast<int>(rank);
-  out.dimension = out.unknowns - out.rank;
+  const SuiteSparse_long rank = SuiteSparseQR<double>(SPQR_ORDERING_DEFAULT, tolerance, 0, m, &r, &e, &cc);
   cholmod_l_free_sparse(&r, &cc);
   if (e != nullptr) cholmod_l_free(a.cols(), sizeof(SuiteSparse_long), e, &cc);
   cholmod_l_free_sparse(&m, &cc);
   cholmod_l_finish(&cc);
+  return static_cast<int>(rank);
+}
+
+// Exact dependencies among the rows: when every contact joins two particles that balance,
+// the x rows (and the y rows) of all particles sum to zero identically (each contact adds f
+// to one and −f to the other). Each such identity caps the rank by one.
+int TranslationIdentities(const EquilibriumSystem& s) {
+  const int per_particle = s.frictional ? 3 : 2;
+  int identities = 0;
+  for (int axis = 0; axis < 2; ++axis) {
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(s.matrix.cols());
+    double scale = 0.0;
+    int previous = -2, offset = 0;
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = s.matrix;
+    previous = -2;
+    offset = 0;
+    for (int r = 0; r < s.NumRows(); ++r) {
+      const int particle = s.row_particle[r];
+      offset = particle == previous ? offset + 1 : 0;
+      previous = particle;
+      if (particle < 0 || offset % per_particle != axis) continue;
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows, r); it; ++it) {
+        sum[it.col()] += it.value();
+        scale = std::max(scale, std::abs(it.value()));
+      }
+    }
+    if (scale > 0.0 && sum.lpNorm<Eigen::Infinity>() <= 1e-12 * scale) ++identities;
+  }
+  return identities;
+}
+
+}  // namespace
+
+Indeterminacy ForceIndeterminacy(const EquilibriumSystem& system) {
+  Indeterminacy out;
+  const Eigen::SparseMatrix<double>& a = system.matrix;
+  out.unknowns = static_cast<int>(a.cols());
+  out.equations = static_cast<int>(a.rows());
+  out.tolerance = 1e-10 * LargestColumnNorm(a);
+  // SuiteSparseQR's rank is an estimate (Heath's method): it can miss a dependency and
+  // overestimate. Two estimates (QR of A and of Aᵀ) and the exact identities among the rows
+  // are upper bounds; the rank is their minimum. Checked against a dense SVD on the bundled
+  // N=500 packings, where the singular values jump from 1e-2 to 1e-15: the QR of A alone
+  // said 1374 for 1373 (μ = 0.1) and 1411 for 1409 (μ = 0.01).
+  out.rank_of_a = SparseRank(a, out.tolerance);
+  out.rank_transposed = SparseRank(a.transpose(), out.tolerance);
+  out.rank = std::min({out.rank_of_a, out.rank_transposed, out.equations - TranslationIdentities(system)});
+  out.dimension = out.unknowns - out.rank;
   return out;
 }
 

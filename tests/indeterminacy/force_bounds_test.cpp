@@ -7,6 +7,7 @@
 #include <numbers>
 #include <tuple>
 
+#include <Eigen/SVD>
 #include <gtest/gtest.h>
 
 #include "test_scenes.hpp"
@@ -195,6 +196,25 @@ TEST(ForceBounds, WarmColdAndThreadedAgree) {
       EXPECT_NEAR(x.value, z.value, 1e-8 * s.force_scale);
     }
   }
+}
+
+}  // namespace
+}  // namespace unjam
+
+namespace unjam {
+namespace {
+
+// The rank against a dense SVD, whose singular values jump from 1e-2 to 1e-15 here: the
+// QR of A alone overestimated it by one on this packing.
+TEST(ForceIndeterminacy, RankMatchesADenseSvd) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd{Eigen::MatrixXd(s.matrix)};
+  const Eigen::VectorXd& sv = svd.singularValues();
+  int rank = 0;
+  for (int k = 0; k < sv.size(); ++k) rank += sv[k] > 1e-10 * sv[0];
+  EXPECT_EQ(ForceIndeterminacy(s).rank, rank);
+  EXPECT_EQ(ForceIndeterminacy(s).dimension, s.NumUnknowns() - rank);
 }
 
 }  // namespace

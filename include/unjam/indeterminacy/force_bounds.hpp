@@ -68,12 +68,16 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
 struct Indeterminacy {
   int unknowns = 0;                 // force components
   int equations = 0;                // balance rows
-  int rank = 0;
+  int rank = 0;                     // min of the estimates below and of the row identities
+  int rank_of_a = 0;                // SuiteSparseQR of A (an upper estimate)
+  int rank_transposed = 0;          // SuiteSparseQR of Aᵀ (an upper estimate)
   int dimension = 0;                // unknowns − rank
   double tolerance = 0.0;           // rank tolerance used
 };
 // Rank tolerance: 1e-10 × the largest column 2-norm of A (rows in force units: each entry is
 // a direction cosine, a lever arm or a scaled cell arm), documented in docs/indeterminacy.md.
+// The rank is the smallest of two SuiteSparseQR estimates (of A and of Aᵀ) and of the
+// number of rows less their exact identities (translations of a periodic packing).
 Indeterminacy ForceIndeterminacy(const EquilibriumSystem& system);
 
 }  // namespace unjam
