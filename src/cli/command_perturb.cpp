@@ -33,6 +33,7 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_option("--response-tol", response_tol, "solver tolerance as a fraction of xi (unless --tol)")->capture_default_str();
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.Register(a);
+  a.get_option("--tol")->description("the solver tolerance itself (default: set by --response-tol)")->default_str("");
   a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");
   a.add_flag("--json", json, "one JSON object on stdout");
   a.add_flag("--quiet", quiet, "no progress on stderr");
