@@ -10,14 +10,7 @@ namespace unjam {
 namespace {
 
 using io_internal::AppendDouble;
-
-// Appends the values separated by single spaces, each preceded by a space.
-void AppendDoubles(std::string& out, std::initializer_list<double> values) {
-  for (const double v : values) {
-    out += ' ';
-    AppendDouble(out, v);
-  }
-}
+using io_internal::AppendDoubles;
 
 void AppendInts(std::string& out, std::initializer_list<long long> values) {
   for (const long long v : values) {

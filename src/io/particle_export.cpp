@@ -14,19 +14,13 @@ namespace unjam {
 namespace {
 
 using io_internal::AppendDouble;
+using io_internal::AppendDoubles;
 
-// Each value preceded by a space.
-void AppendSpaced(std::string& out, std::initializer_list<double> values) {
-  for (const double v : values) {
-    out += ' ';
-    AppendDouble(out, v);
-  }
-}
 
 // One line of values separated by single spaces.
 void AppendRow(std::string& out, std::initializer_list<double> values) {
   const std::size_t begin = out.size();
-  AppendSpaced(out, values);
+  AppendDoubles(out, values);
   out.erase(begin, 1);
   out += '\n';
 }
@@ -172,9 +166,9 @@ void WriteExtendedXyz(const Scene& scene, const ParticleField& field, const std:
     const Particle& p = scene.particles[k];
     const Vec2 d = Displacement(field, k);
     out += std::to_string(k);
-    AppendSpaced(out, {p.position.x(), p.position.y(), 0.0, p.radius});
+    AppendDoubles(out, {p.position.x(), p.position.y(), 0.0, p.radius});
     out += p.fixed ? " 1" : " 0";
-    AppendSpaced(out, {d.x(), d.y(), 0.0});
+    AppendDoubles(out, {d.x(), d.y(), 0.0});
     out += '\n';
   }
   WriteFileAtomically(path, out);

@@ -118,6 +118,13 @@ void AppendDouble(std::string& out, double value) {
   out.append(buffer, result.ptr);
 }
 
+void AppendDoubles(std::string& out, std::initializer_list<double> values) {
+  for (const double v : values) {
+    out += ' ';
+    AppendDouble(out, v);
+  }
+}
+
 std::string DoubleToString(double value) {
   std::string out;
   AppendDouble(out, value);

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -45,6 +46,8 @@ std::uint64_t ParseUnsigned64(std::string_view token, std::string_view what);
 
 // Appends the shortest decimal that reads back as exactly `value` (std::to_chars).
 void AppendDouble(std::string& out, double value);
+// Appends each value, preceded by a space, in the same shortest form.
+void AppendDoubles(std::string& out, std::initializer_list<double> values);
 // Formats a double for a message (same shortest form).
 std::string DoubleToString(double value);
 
