@@ -56,13 +56,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The static state perturbations start from: at rest, without the prescribed effects of
+// an earlier perturbation.
 Scene AtRest(const Scene& scene) {
   Scene rest = scene;
-  for (Particle& p : rest.particles) {
-    p.velocity = Vec2::Zero();
-    p.spin = 0.0;
-  }
-  if (rest.effects.pressure_bath) rest.effects.pressure_bath->strain_rate = 0.0;
+  BringToRest(rest);
   rest.effects.prescribed_motion.clear();
   rest.effects.prescribed_gaps.clear();
   return rest;

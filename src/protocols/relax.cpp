@@ -32,14 +32,6 @@ double MeanSpeed(const Scene& scene) {
   return mean;
 }
 
-void BringToRest(Scene& scene) {
-  for (Particle& p : scene.particles) {
-    p.velocity = Vec2::Zero();
-    p.spin = 0.0;
-  }
-  if (scene.effects.pressure_bath) scene.effects.pressure_bath->strain_rate = 0.0;
-}
-
 AdmissibleForces Admissible(const EquilibriumSystem& system, const std::vector<ContactForce>& reference) {
   AdmissibleOptions options;
   options.method = AdmissibleMethod::kProjection;  // the LP is slow at N ~ 1e3; a later attempt is cheaper

@@ -10,11 +10,7 @@ namespace unjam {
 namespace {
 Scene AtRest(const Scene& scene) {
   Scene rest = scene;
-  for (Particle& p : rest.particles) {
-    p.velocity = Vec2::Zero();
-    p.spin = 0.0;
-  }
-  if (rest.effects.pressure_bath) rest.effects.pressure_bath->strain_rate = 0.0;
+  BringToRest(rest);
   return rest;
 }
 

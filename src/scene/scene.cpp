@@ -48,6 +48,14 @@ void WrapPositions(Scene& scene) {
   }
 }
 
+void BringToRest(Scene& scene) {
+  for (Particle& p : scene.particles) {
+    p.velocity = Vec2::Zero();
+    p.spin = 0.0;
+  }
+  if (scene.effects.pressure_bath) scene.effects.pressure_bath->strain_rate = 0.0;
+}
+
 Vec2 MinimumImage(const Cell& cell, Vec2 v) {
   if (PeriodicX(cell.periodicity)) v.x() -= cell.size.x() * std::round(v.x() / cell.size.x());
   if (PeriodicY(cell.periodicity)) v.y() -= cell.size.y() * std::round(v.y() / cell.size.y());

@@ -126,6 +126,9 @@ std::vector<char> MovableParticles(const Scene& scene);
 double PackingFraction(const Scene& scene);
 // Wraps positions into the cell along periodic axes.
 void WrapPositions(Scene& scene);
+// Zero velocities, spins and the cell strain rate: the state a static solve or a
+// perturbation starts from.
+void BringToRest(Scene& scene);
 // The vector v at its shortest periodic image (separations, displacements from a point).
 Vec2 MinimumImage(const Cell& cell, Vec2 v);
 
