@@ -9,9 +9,9 @@
 #include <thread>
 
 #include <ClpSimplex.hpp>
-#include <CoinPackedMatrix.hpp>
 #include <SuiteSparseQR.hpp>
 
+#include "ensemble_lp.hpp"
 #include "ipopt_lp.hpp"
 
 namespace unjam {
@@ -38,43 +38,10 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-// The ensemble as a CLP model over the unknowns f / F (F the force scale, so that CLP's
-// absolute tolerances are relative ones): rows A f = b, then ±f_t − μ f_n ≤ 0.
 std::unique_ptr<ClpSimplex> BuildModel(const EquilibriumSystem& s, double tolerance) {
-  const int n = s.NumUnknowns();
-  std::vector<int> rows, cols;
-  std::vector<double> values, col_lower(n, 0.0), col_upper(n, kInfinity), row_lower, row_upper;
-  for (int r = 0; r < s.NumRows(); ++r) {
-    row_lower.push_back(s.load[r] / s.force_scale);
-    row_upper.push_back(s.load[r] / s.force_scale);
-  }
-  for (int k = 0; k < s.matrix.outerSize(); ++k) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(s.matrix, k); it; ++it) {
-      rows.push_back(static_cast<int>(it.row()));
-      cols.push_back(static_cast<int>(it.col()));
-      values.push_back(it.value());
-    }
-  }
-  if (s.frictional) {
-    for (int k = 0; k < n / 2; ++k) {
-      col_lower[2 * k + 1] = -kInfinity;
-      for (double sign : {1.0, -1.0}) {
-        const int row = static_cast<int>(row_lower.size());
-        row_lower.push_back(-kInfinity);
-        row_upper.push_back(0.0);
-        rows.insert(rows.end(), {row, row});
-        cols.insert(cols.end(), {2 * k + 1, 2 * k});
-        values.insert(values.end(), {sign, -s.mu});
-      }
-    }
-  }
-  const CoinPackedMatrix matrix(true, rows.data(), cols.data(), values.data(), static_cast<CoinBigIndex>(values.size()));
   auto model = std::make_unique<ClpSimplex>();
-  model->setLogLevel(0);
-  const std::vector<double> objective(n, 0.0);
-  model->loadProblem(matrix, col_lower.data(), col_upper.data(), objective.data(), row_lower.data(), row_upper.data());
-  model->setPrimalTolerance(tolerance);
-  model->setDualTolerance(tolerance);
+  indeterminacy_internal::LoadIntoClp(indeterminacy_internal::EnsembleLp(s), std::vector<double>(s.NumUnknowns(), 0.0),
+                                      tolerance, *model);
   return model;
 }
 

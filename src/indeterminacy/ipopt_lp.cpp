@@ -1,11 +1,10 @@
 #include "ipopt_lp.hpp"
 
-#include <limits>
-#include <vector>
-
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
+
+#include "ensemble_lp.hpp"
 
 namespace unjam::indeterminacy_internal {
 
@@ -14,49 +13,30 @@ namespace {
 using Ipopt::Index;
 using Ipopt::Number;
 
-// The force ensemble as an Ipopt problem over f / F: constraints A f = b / F and
-// ±f_t − μ f_n ≤ 0, bounds f_n ≥ 0, objective sign · f_n,k. Linear: zero Hessian.
+// The force ensemble (ensemble_lp.hpp) as an Ipopt problem, objective sign · f_n,k (with
+// f_t of contact `fixed` held at 0). Linear: zero Hessian.
 class ForceLp : public Ipopt::TNLP {
  public:
-  ForceLp(const EquilibriumSystem& s, int column, double sign, int fixed) : s_(s), column_(column), sign_(sign), fixed_(fixed) {
-    for (int k = 0; k < s.matrix.outerSize(); ++k) {
-      for (Eigen::SparseMatrix<double>::InnerIterator it(s.matrix, k); it; ++it) {
-        rows_.push_back(static_cast<Index>(it.row()));
-        cols_.push_back(static_cast<Index>(it.col()));
-        values_.push_back(it.value());
-      }
-    }
-    const int cone_rows = s.frictional ? s.NumUnknowns() : 0;  // two per contact
-    for (int r = 0; r < cone_rows; ++r) {
-      const int k = r / 2;
-      const double side = r % 2 == 0 ? 1.0 : -1.0;
-      rows_.insert(rows_.end(), {s.NumRows() + r, s.NumRows() + r});
-      cols_.insert(cols_.end(), {2 * k + 1, 2 * k});
-      values_.insert(values_.end(), {side, -s.mu});
-    }
-    m_ = s.NumRows() + cone_rows;
-  }
+  ForceLp(const EquilibriumSystem& s, int column, double sign, int fixed)
+      : lp_(EnsembleLp(s)), column_(column), sign_(sign), fixed_(fixed) {}
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess, IndexStyleEnum& style) override {
-    n = s_.NumUnknowns();
-    m = m_;
-    nnz_jac = static_cast<Index>(values_.size());
+    n = static_cast<Index>(lp_.col_lower.size());
+    m = static_cast<Index>(lp_.row_lower.size());
+    nnz_jac = static_cast<Index>(lp_.values.size());
     nnz_hess = 0;
     style = C_STYLE;
     return true;
   }
   bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl, Number* gu) override {
-    const double inf = 1e20;
-    const int stride = s_.UnknownsPerContact();
+    // Ipopt reads |bounds| ≥ 1e19 as none; the infinities pass as they are.
     for (Index c = 0; c < n; ++c) {
-      const bool tangential = stride == 2 && c % 2 == 1;
-      xl[c] = tangential ? -inf : 0.0;
-      xu[c] = inf;
-      if (c == fixed_) xl[c] = xu[c] = 0.0;
+      xl[c] = c == fixed_ ? 0.0 : lp_.col_lower[c];
+      xu[c] = c == fixed_ ? 0.0 : lp_.col_upper[c];
     }
     for (Index r = 0; r < m; ++r) {
-      if (r < s_.NumRows()) gl[r] = gu[r] = s_.load[r] / s_.force_scale;
-      else gl[r] = -inf, gu[r] = 0.0;
+      gl[r] = lp_.row_lower[r];
+      gu[r] = lp_.row_upper[r];
     }
     return true;
   }
@@ -75,14 +55,14 @@ class ForceLp : public Ipopt::TNLP {
   }
   bool eval_g(Index, const Number* x, bool, Index m, Number* g) override {
     for (Index r = 0; r < m; ++r) g[r] = 0.0;
-    for (std::size_t e = 0; e < values_.size(); ++e) g[rows_[e]] += values_[e] * x[cols_[e]];
+    for (std::size_t e = 0; e < lp_.values.size(); ++e) g[lp_.rows[e]] += lp_.values[e] * x[lp_.cols[e]];
     return true;
   }
   bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* irow, Index* jcol, Number* values) override {
     if (values == nullptr) {
-      for (std::size_t e = 0; e < rows_.size(); ++e) irow[e] = rows_[e], jcol[e] = cols_[e];
+      for (std::size_t e = 0; e < lp_.rows.size(); ++e) irow[e] = lp_.rows[e], jcol[e] = lp_.cols[e];
     } else {
-      for (std::size_t e = 0; e < values_.size(); ++e) values[e] = values_[e];
+      for (std::size_t e = 0; e < lp_.values.size(); ++e) values[e] = lp_.values[e];
     }
     return true;
   }
@@ -97,13 +77,10 @@ class ForceLp : public Ipopt::TNLP {
   double objective() const { return objective_; }
 
  private:
-  const EquilibriumSystem& s_;
+  LpTriplets lp_;
   int column_;
   double sign_;
   int fixed_;
-  Index m_ = 0;
-  std::vector<Index> rows_, cols_;
-  std::vector<double> values_;
   double objective_ = 0.0;
 };
 

@@ -1,0 +1,43 @@
+#include "ensemble_lp.hpp"
+
+#include <limits>
+
+#include <CoinPackedMatrix.hpp>
+
+namespace unjam::indeterminacy_internal {
+
+LpTriplets EnsembleLp(const EquilibriumSystem& s) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const int n = s.NumUnknowns();
+  LpTriplets lp;
+  lp.col_lower.assign(n, 0.0);
+  lp.col_upper.assign(n, kInfinity);
+  for (int r = 0; r < s.NumRows(); ++r) lp.AddRow(s.load[r] / s.force_scale, s.load[r] / s.force_scale);
+  for (int k = 0; k < s.matrix.outerSize(); ++k) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(s.matrix, k); it; ++it) {
+      lp.Add(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
+    }
+  }
+  if (!s.frictional) return lp;
+  for (int k = 0; k < n / 2; ++k) {
+    lp.col_lower[2 * k + 1] = -kInfinity;  // f_t is free; the cone bounds it
+    for (double sign : {1.0, -1.0}) {
+      const int row = lp.AddRow(-kInfinity, 0.0);
+      lp.Add(row, 2 * k + 1, sign);
+      lp.Add(row, 2 * k, -s.mu);
+    }
+  }
+  return lp;
+}
+
+void LoadIntoClp(const LpTriplets& lp, const std::vector<double>& objective, double tolerance, ClpSimplex& model) {
+  const CoinPackedMatrix matrix(true, lp.rows.data(), lp.cols.data(), lp.values.data(),
+                                static_cast<CoinBigIndex>(lp.values.size()));
+  model.setLogLevel(0);
+  model.loadProblem(matrix, lp.col_lower.data(), lp.col_upper.data(), objective.data(), lp.row_lower.data(),
+                    lp.row_upper.data());
+  model.setPrimalTolerance(tolerance);
+  model.setDualTolerance(tolerance);
+}
+
+}  // namespace unjam::indeterminacy_internal
