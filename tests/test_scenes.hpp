@@ -17,6 +17,18 @@ inline Particle Disk(double x, double y, double r, bool fixed = false) {
 
 inline Wall Floor(double height = 0.0) { return Wall{Vec2(0.0, height), Vec2(0.0, 1.0)}; }
 
+// Disk 2 (radius 1) resting in a V-groove of two fixed disks 0 and 1 (radius 1) at x = ∓a
+// (0 < a < 2), touching both at height h = √(4 − a²): each contact normal makes the angle
+// asin(a/2) with the vertical. Gravity −1, friction μ, no periodicity.
+inline Scene VGroove(double a, double mu) {
+  Scene s;
+  s.cell.size = Vec2(20.0, 20.0);
+  s.effects.gravity = Vec2(0.0, -1.0);
+  s.effects.friction = mu;
+  s.particles = {Disk(-a, 0.0, 1.0, true), Disk(a, 0.0, 1.0, true), Disk(0.0, std::sqrt(4.0 - a * a), 1.0)};
+  return s;
+}
+
 // k equal disks of radius r stacked on a floor, touching (gap 0).
 inline Scene Stack(int k, double r, double g, double mu) {
   Scene s;

@@ -14,18 +14,8 @@ namespace {
 using testing::Disk;
 using testing::Floor;
 
-// A disk of radius 1 resting in a symmetric V-groove of two fixed disks of radius 1 whose
-// centres are 2·sin(α)·2 apart: each contact normal makes the angle α with the vertical.
-Scene VGroove(double alpha, double mu) {
-  Scene s;
-  s.cell.size = Vec2(20, 20);
-  s.effects.gravity = Vec2(0.0, -1.0);
-  s.effects.friction = mu;
-  const double half = 2.0 * std::sin(alpha);
-  s.particles = {Disk(-half, 0.0, 1.0, true), Disk(half, 0.0, 1.0, true),
-                 Disk(0.0, 2.0 * std::cos(alpha), 1.0)};
-  return s;
-}
+// The V-groove whose contact normals make the angle α with the vertical.
+Scene VGroove(double alpha, double mu) { return testing::VGroove(2.0 * std::sin(alpha), mu); }
 
 TEST(EquilibriumSystem, RowsColumnsAndLoadFollowTheDeclaredEffects) {
   const Scene frictionless = VGroove(0.4, 0.0);

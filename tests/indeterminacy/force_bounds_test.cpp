@@ -19,16 +19,7 @@ namespace {
 
 using testing::Disk;
 using testing::Floor;
-
-// Disk 2 (radius 1) on fixed disks 0 and 1 (radius 1) at x = ∓a; h = √(4 − a²).
-Scene Groove(double a, double mu) {
-  Scene s;
-  s.cell.size = Vec2(20, 20);
-  s.effects.gravity = Vec2(0.0, -1.0);
-  s.effects.friction = mu;
-  s.particles = {Disk(-a, 0.0, 1.0, true), Disk(a, 0.0, 1.0, true), Disk(0.0, std::sqrt(4.0 - a * a), 1.0)};
-  return s;
-}
+using testing::VGroove;
 
 std::vector<int> AllContacts(const EquilibriumSystem& s) {
   std::vector<int> all(s.contacts.size());
@@ -37,7 +28,7 @@ std::vector<int> AllContacts(const EquilibriumSystem& s) {
 }
 
 TEST(ForceBounds, FrictionlessVGrooveHasOneNetwork) {
-  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(1.2, 0.0));
+  const EquilibriumSystem s = BuildEquilibriumSystem(VGroove(1.2, 0.0));
   const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});
   ASSERT_TRUE(r.feasible);
   const double weight = std::numbers::pi, h = 1.6;
@@ -57,7 +48,7 @@ TEST(ForceBounds, FrictionlessVGrooveHasOneNetwork) {
 // when the contact transmits no tangential force.
 TEST(ForceBounds, FrictionalVGrooveHasTheAnalyticInterval) {
   const double a = 1.2, h = 1.6, mu = 0.5, weight = std::numbers::pi;
-  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(a, mu));
+  const EquilibriumSystem s = BuildEquilibriumSystem(VGroove(a, mu));
   const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});
   ASSERT_TRUE(r.feasible);
   for (const ContactBounds& b : r.bounds) {
@@ -71,7 +62,7 @@ TEST(ForceBounds, FrictionalVGrooveHasTheAnalyticInterval) {
 
 // The two LP backends, an exact simplex and an interior point, agree on the analytic case.
 TEST(ForceBounds, ClpAndIpoptAgree) {
-  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(1.2, 0.5));
+  const EquilibriumSystem s = BuildEquilibriumSystem(VGroove(1.2, 0.5));
   BoundsOptions ipopt;
   ipopt.lp = LpBackend::kIpopt;
   const BoundsReport a = ComputeForceBounds(s, AllContacts(s), {});
@@ -88,7 +79,7 @@ TEST(ForceBounds, ClpAndIpoptAgree) {
 }
 
 TEST(ForceBounds, FrictionThatCanWedgeTheDiskLeavesNoUpperBound) {
-  const EquilibriumSystem s = BuildEquilibriumSystem(Groove(1.2, 2.0));  // h < μ a
+  const EquilibriumSystem s = BuildEquilibriumSystem(VGroove(1.2, 2.0));  // h < μ a
   const BoundsReport r = ComputeForceBounds(s, AllContacts(s), {});
   ASSERT_TRUE(r.feasible);
   for (const ContactBounds& b : r.bounds) {
@@ -132,7 +123,7 @@ TEST(ForceBounds, HyperstaticDiskBetweenWallsHasAFreeSqueeze) {
 }
 
 TEST(ForceBounds, AnUnsupportedDiskHasNoAdmissibleNetwork) {
-  Scene s = Groove(1.2, 0.0);
+  Scene s = VGroove(1.2, 0.0);
   s.particles[2].position.x() += 0.5;  // off the left support: only one contact left
   s.particles[2].position.y() = std::sqrt(4.0 - 0.7 * 0.7);
   const EquilibriumSystem system = BuildEquilibriumSystem(s);

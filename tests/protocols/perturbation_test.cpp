@@ -29,13 +29,8 @@ Scene WithStaticForces(Scene scene) {
   return scene;
 }
 
-// Disk 2 (radius 1) resting on fixed disks 0 and 1 (radius 1) at x = ∓a, gravity −1.
-Scene VGroove(double a) {
-  Scene s;
-  s.effects.gravity = Vec2(0.0, -1.0);
-  s.particles = {Disk(-a, 0.0, 1.0, true), Disk(a, 0.0, 1.0, true), Disk(0.0, std::sqrt(4.0 - a * a), 1.0)};
-  return WithStaticForces(s);
-}
+// The frictionless V-groove (test_scenes.hpp) with its static forces.
+Scene VGroove(double a) { return WithStaticForces(testing::VGroove(a, 0.0)); }
 
 PerturbationTarget Opening(int i, int j) {
   PerturbationTarget t;
