@@ -1,5 +1,6 @@
 #include "cli_common.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -34,6 +35,8 @@ nlohmann::json ToJson(const SolveReport& r) {
           {"iterations", r.iterations}, {"residual", r.residual},      {"seconds", r.seconds},
           {"message", r.message}};
 }
+
+nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
 const char* PeriodicityName(Periodicity p) {
   switch (p) {

@@ -38,6 +38,8 @@ struct SolverFlags {
 std::string DefaultPackingPath();
 
 nlohmann::json ToJson(const SolveReport& report);
+// A number, or null where it is not finite (JSON has no NaN or infinity).
+nlohmann::json NumberOrNull(double x);
 std::string EffectsSummary(const Scene& scene);
 const char* PeriodicityName(Periodicity p);
 

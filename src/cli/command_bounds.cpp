@@ -145,8 +145,6 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
   return os.str();
 }
 
-nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-
 }  // namespace
 
 int RunBounds(const BoundsFlags& f) {

@@ -218,7 +218,6 @@ void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& ba
   WriteExtendedXyz(base.scene, field, dir / "response.xyz");
 }
 
-nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 // A mean over no sample is no number.
 nlohmann::json MeanOrNull(const MeanAndError& m) { return m.count > 0 ? NumberOrNull(m.mean) : nlohmann::json(nullptr); }
 nlohmann::json ErrorOrNull(const MeanAndError& m) { return m.count > 1 ? NumberOrNull(m.error) : nlohmann::json(nullptr); }
