@@ -140,8 +140,7 @@ void SummarizeFields(const std::vector<const ReducedResponse*>& used, const Resp
       sum += Vec2(r->field[2 * b], r->field[2 * b + 1]);
       out.field[b].count += r->field_count[b];
     }
-    const int ix = b % layout.field.nx, iy = b / layout.field.nx;
-    out.field[b].center = layout.field.origin + Vec2((ix + 0.5) * layout.field.side.x(), (iy + 0.5) * layout.field.side.y());
+    out.field[b].center = layout.field.BoxCenter(b);
     if (out.field[b].count > 0) out.field[b].mean = sum / out.field[b].count;
   }
   const int stress_boxes = layout.stress.nx * layout.stress.ny;
@@ -152,8 +151,7 @@ void SummarizeFields(const std::vector<const ReducedResponse*>& used, const Resp
       box.mean += Eigen::Matrix2d{{r->stress[3 * b], r->stress[3 * b + 1]}, {r->stress[3 * b + 1], r->stress[3 * b + 2]}};
     }
     if (!used.empty()) box.mean /= static_cast<double>(used.size());
-    const int ix = b % layout.stress.nx, iy = b / layout.stress.nx;
-    box.center = layout.stress.origin + Vec2((ix + 0.5) * layout.stress.side.x(), (iy + 0.5) * layout.stress.side.y());
+    box.center = layout.stress.BoxCenter(b);
     box.pressure_change = Pressure(box.mean);
     box.max_shear = MaxShear(box.mean);
     const double p = std::abs(box.pressure_change);

@@ -25,6 +25,9 @@ struct GridSpec {
   Vec2 side = Vec2(2.0, 2.0);   // box sides along x and y
   int nx = 1, ny = 1;
   bool periodic_x = false, periodic_y = false;
+
+  Vec2 BoxCenter(int ix, int iy) const { return origin + Vec2((ix + 0.5) * side.x(), (iy + 0.5) * side.y()); }
+  Vec2 BoxCenter(int box) const { return BoxCenter(box % nx, box / nx); }  // box = iy · nx + ix
 };
 
 // The grid that tiles a cell with boxes as close to `side` as possible: along a periodic
@@ -46,9 +49,7 @@ struct StressGrid {
   double lost_length = 0.0;             // segment length dropped outside the grid
 
   const Eigen::Matrix2d& at(int ix, int iy) const { return stress[iy * grid.nx + ix]; }
-  Vec2 BoxCenter(int ix, int iy) const {
-    return grid.origin + Vec2((ix + 0.5) * grid.side.x(), (iy + 0.5) * grid.side.y());
-  }
+  Vec2 BoxCenter(int ix, int iy) const { return grid.BoxCenter(ix, iy); }
 };
 
 StressGrid CoarseGrainedStress(const GridSpec& grid, const std::vector<StressSegment>& segments);
