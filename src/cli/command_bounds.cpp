@@ -31,14 +31,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-int FindKey(const EquilibriumSystem& s, const ContactForce& f) {
-  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
-    const Contact& c = s.contacts[k];
-    if (c.i == f.i && c.j == f.j && c.image == f.image) return static_cast<int>(k);
-  }
-  return -1;
-}
-
 // System contact indices of the selection: every contact of the ensemble, or the K-th
 // force-carrying contacts of the file (the numbering of `unjam perturb --contact K`).
 std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, const EquilibriumSystem& s) {
@@ -65,7 +57,7 @@ std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, con
     if (k < 0 || k >= static_cast<int>(carrying.size())) {
       throw std::invalid_argument("--contacts: " + item + " is out of range (the packing has " + std::to_string(carrying.size()) + " force-carrying contacts)");
     }
-    const int index = FindKey(s, carrying[k]);
+    const int index = FindContact(s.contacts, carrying[k].i, carrying[k].j, carrying[k].image);
     if (index < 0) throw std::invalid_argument("--contacts: contact " + item + " has a gap above --gap-tol");
     out.push_back(index);
   }

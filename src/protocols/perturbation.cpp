@@ -66,17 +66,6 @@ Scene AtRest(const Scene& scene) {
   return rest;
 }
 
-bool SameKey(const Contact& c, int i, int j, const std::array<int, 2>& image) {
-  return c.i == i && c.j == j && c.image == image;
-}
-
-int FindContact(const std::vector<Contact>& contacts, int i, int j, const std::array<int, 2>& image) {
-  for (std::size_t k = 0; k < contacts.size(); ++k) {
-    if (SameKey(contacts[k], i, j, image)) return static_cast<int>(k);
-  }
-  return -1;
-}
-
 Vec2 ForceVector(const Contact& c, const Eigen::Vector2d& f) {
   return f[0] * c.normal + f[1] * Perp(c.normal);
 }

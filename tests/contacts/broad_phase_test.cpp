@@ -1,6 +1,8 @@
 // Tests for src/contacts/broad_phase.cpp
 #include <gtest/gtest.h>
 
+#include "test_scenes.hpp"
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -125,6 +127,17 @@ TEST(BroadPhase, MatchesBruteForceForSmallAndLargeCounts) {
       ExpectMatchesBruteForce(RandomScene(spec), 1e-9, Describe(spec, 1e-9));
     }
   }
+}
+
+// Contacts come sorted by key, so a contact is found by binary search (FindContact).
+TEST(BroadPhase, EveryContactIsFoundByItsKey) {
+  const Scene s = testing::TriangularLattice(6, 6, 0.5);
+  const std::vector<Contact> contacts = DetectContacts(s, 1e-6);
+  ASSERT_FALSE(contacts.empty());
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    EXPECT_EQ(FindContact(contacts, contacts[k].i, contacts[k].j, contacts[k].image), static_cast<int>(k));
+  }
+  EXPECT_EQ(FindContact(contacts, contacts[0].i, contacts[0].j, {7, 7}), -1);
 }
 
 TEST(BroadPhase, SingleParticleSeesOnlyWalls) {

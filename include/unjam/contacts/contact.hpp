@@ -42,6 +42,17 @@ inline bool ForceKeyLess(const ContactForce& a, const ContactForce& b) {
   return a.image < b.image;
 }
 
+// Index of the contact (i, j, image) in `sorted` (ordered by ContactKeyLess, as detection
+// returns them), or −1.
+inline int FindContact(const std::vector<Contact>& sorted, int i, int j, const std::array<int, 2>& image) {
+  Contact probe;
+  probe.i = i;
+  probe.j = j;
+  probe.image = image;
+  auto it = std::lower_bound(sorted.begin(), sorted.end(), probe, ContactKeyLess);
+  return it == sorted.end() || !SameContactKey(*it, probe) ? -1 : static_cast<int>(it - sorted.begin());
+}
+
 // Forces (stored, saved, or a reference) looked up by the key of a contact: sorted once,
 // each lookup O(log n).
 class ForcesByContact {
