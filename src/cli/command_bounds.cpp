@@ -39,10 +39,7 @@ std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, con
     for (int k = 0; k < static_cast<int>(s.contacts.size()); ++k) out.push_back(k);
     return out;
   }
-  std::vector<ContactForce> carrying;
-  for (const ContactForce& f : scene.forces) {
-    if (f.normal > 0.0 && !IsWallIndex(f.j)) carrying.push_back(f);
-  }
+  const std::vector<ContactForce> carrying = ForceCarryingPairs(scene);
   std::stringstream list(spec);
   std::string item;
   while (std::getline(list, item, ',')) {

@@ -256,9 +256,7 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
 
 std::vector<PerturbationTarget> ContactTargets(const PerturbationBase& base) {
   std::vector<PerturbationTarget> out;
-  for (const ContactForce& f : base.scene.forces) {
-    if (f.normal <= 0.0 || IsWallIndex(f.j)) continue;
-    if (base.scene.particles[f.i].fixed && base.scene.particles[f.j].fixed) continue;
+  for (const ContactForce& f : ForceCarryingPairs(base.scene)) {
     PerturbationTarget t;
     t.kind = PerturbationTarget::Kind::kContactOpening;
     t.i = f.i;

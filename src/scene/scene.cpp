@@ -48,6 +48,16 @@ void WrapPositions(Scene& scene) {
   }
 }
 
+std::vector<ContactForce> ForceCarryingPairs(const Scene& scene) {
+  std::vector<ContactForce> out;
+  for (const ContactForce& f : scene.forces) {
+    if (f.normal <= 0.0 || IsWallIndex(f.j)) continue;
+    if (scene.particles[f.i].fixed && scene.particles[f.j].fixed) continue;
+    out.push_back(f);
+  }
+  return out;
+}
+
 void BringToRest(Scene& scene) {
   for (Particle& p : scene.particles) {
     p.velocity = Vec2::Zero();

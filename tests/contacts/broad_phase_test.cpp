@@ -1,8 +1,6 @@
 // Tests for src/contacts/broad_phase.cpp
 #include <gtest/gtest.h>
 
-#include "test_scenes.hpp"
-
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -11,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "test_scenes.hpp"
 #include "unjam/contacts/contact.hpp"
 
 namespace unjam {

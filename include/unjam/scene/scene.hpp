@@ -126,6 +126,9 @@ std::vector<char> MovableParticles(const Scene& scene);
 double PackingFraction(const Scene& scene);
 // Wraps positions into the cell along periodic axes.
 void WrapPositions(Scene& scene);
+// The stored forces that carry load between two particles (not walls, not two fixed disks),
+// in the order the scene stores them: the numbering of `--contact K` and `--contacts K`.
+std::vector<ContactForce> ForceCarryingPairs(const Scene& scene);
 // Zero velocities, spins and the cell strain rate: the state a static solve or a
 // perturbation starts from.
 void BringToRest(Scene& scene);
