@@ -229,21 +229,17 @@ int SparseRank(const Eigen::SparseMatrix<double>& a, double tolerance) {
 // the x rows (and the y rows) of all particles sum to zero identically (each contact adds f
 // to one and −f to the other). Each such identity caps the rank by one.
 int TranslationIdentities(const EquilibriumSystem& s) {
-  const int per_particle = s.frictional ? 3 : 2;
+  // Every balancing particle owns one block of rows (x, y[, torque]) and the cell row comes
+  // last, so the x rows are those with r % block = 0 and the y rows r % block = 1.
+  const int block = s.frictional ? 3 : 2;
   int identities = 0;
   for (int axis = 0; axis < 2; ++axis) {
     Eigen::VectorXd sum = Eigen::VectorXd::Zero(s.matrix.cols());
     double scale = 0.0;
-    int previous = -2, offset = 0;
-    const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = s.matrix;
-    previous = -2;
-    offset = 0;
-    for (int r = 0; r < s.NumRows(); ++r) {
-      const int particle = s.row_particle[r];
-      offset = particle == previous ? offset + 1 : 0;
-      previous = particle;
-      if (particle < 0 || offset % per_particle != axis) continue;
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(rows, r); it; ++it) {
+    for (int k = 0; k < s.matrix.outerSize(); ++k) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(s.matrix, k); it; ++it) {
+        const int r = static_cast<int>(it.row());
+        if (s.row_particle[r] < 0 || r % block != axis) continue;
         sum[it.col()] += it.value();
         scale = std::max(scale, std::abs(it.value()));
       }
