@@ -70,31 +70,29 @@ Vec2 ForceVector(const Contact& c, const Eigen::Vector2d& f) {
   return f[0] * c.normal + f[1] * Perp(c.normal);
 }
 
-// Σ of the contact forces acting on particle p.
-Vec2 ContactForceOn(int p, const std::vector<Contact>& contacts,
-                    const std::vector<Eigen::Vector2d>& forces) {
-  Vec2 sum = Vec2::Zero();
+// Calls visit(f) with the force f that each contact exerts on particle p.
+template <class Visit>
+void ForEachForceOn(int p, const std::vector<Contact>& contacts, const std::vector<Eigen::Vector2d>& forces,
+                    Visit visit) {
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
-    if (c.i == p) sum -= ForceVector(c, forces[k]);
-    if (!c.WithWall() && c.j == p) sum += ForceVector(c, forces[k]);
+    if (c.i == p) visit(Vec2(-ForceVector(c, forces[k])));
+    if (!c.WithWall() && c.j == p) visit(ForceVector(c, forces[k]));
   }
+}
+
+// Σ of the contact forces acting on particle p.
+Vec2 ContactForceOn(int p, const std::vector<Contact>& contacts, const std::vector<Eigen::Vector2d>& forces) {
+  Vec2 sum = Vec2::Zero();
+  ForEachForceOn(p, contacts, forces, [&](const Vec2& f) { sum += f; });
   return sum;
 }
 
 // Effective weight F_y: the sum of the positive vertical components of the contact forces
 // on particle p.
-double EffectiveWeight(int p, const std::vector<Contact>& contacts,
-                       const std::vector<Eigen::Vector2d>& forces) {
+double EffectiveWeight(int p, const std::vector<Contact>& contacts, const std::vector<Eigen::Vector2d>& forces) {
   double sum = 0.0;
-  for (std::size_t k = 0; k < contacts.size(); ++k) {
-    const Contact& c = contacts[k];
-    double fy = 0.0;
-    if (c.i == p) fy = -ForceVector(c, forces[k]).y();
-    else if (!c.WithWall() && c.j == p) fy = ForceVector(c, forces[k]).y();
-    else continue;
-    sum += std::max(fy, 0.0);
-  }
+  ForEachForceOn(p, contacts, forces, [&](const Vec2& f) { sum += std::max(f.y(), 0.0); });
   return sum;
 }
 
