@@ -2,6 +2,7 @@
 // The CLI holds no physics: every number it prints comes from the library.
 #pragma once
 
+#include <cstdio>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -38,6 +39,13 @@ struct SolverFlags {
 std::string DefaultPackingPath();
 
 nlohmann::json ToJson(const SolveReport& report);
+// printf-style formatting into a string (lines of CSV and progress, under 512 characters).
+std::string Format(const char* fmt, auto... args) {
+  char buf[512];
+  std::snprintf(buf, sizeof buf, fmt, args...);
+  return buf;
+}
+
 // A number, or null where it is not finite (JSON has no NaN or infinity).
 nlohmann::json NumberOrNull(double x);
 std::string EffectsSummary(const Scene& scene);

@@ -104,12 +104,9 @@ Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, 
   return out;
 }
 
-std::string Number(const Bound& b) {
-  char buf[64];
-  if (!b.ok()) return "";
-  std::snprintf(buf, sizeof buf, "%.17g", b.value);
-  return buf;
-}
+// Every digit of a finite number; empty for no number.
+std::string Exact(double x) { return std::isfinite(x) ? Format("%.17g", x) : ""; }
+std::string Number(const Bound& b) { return b.ok() ? Exact(b.value) : ""; }
 
 std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Comparison* cmp) {
   std::ostringstream os;
@@ -119,15 +116,11 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
   for (std::size_t a = 0; a < r.bounds.size(); ++a) {
     const ContactBounds& b = r.bounds[a];
     const Contact& c = s.contacts[b.contact];
-    char ref[64];
-    std::snprintf(ref, sizeof ref, "%.17g", b.reference);
-    os << b.contact << ',' << c.i << ',' << c.j << ',' << c.image[0] << ',' << c.image[1] << ',' << ref << ','
+    os << b.contact << ',' << c.i << ',' << c.j << ',' << c.image[0] << ',' << c.image[1] << ',' << Exact(b.reference) << ','
        << Number(b.min) << ',' << Number(b.max) << ',' << Number(b.max_without_friction) << ','
        << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << ToString(b.max_without_friction.status);
     if (cmp) {
-      char fc[64] = "";
-      if (std::isfinite(cmp->f_crit[a])) std::snprintf(fc, sizeof fc, "%.17g", cmp->f_crit[a]);
-      os << ',' << fc << ',' << cmp->status[a];
+      os << ',' << Exact(cmp->f_crit[a]) << ',' << cmp->status[a];
     }
     os << "\n";
   }

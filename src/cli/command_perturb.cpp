@@ -121,12 +121,6 @@ std::map<int, ReducedResponse> Resume(const std::filesystem::path& records, cons
   return done;
 }
 
-std::string Format(const char* fmt, auto... args) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, fmt, args...);
-  return buf;
-}
-
 std::string TargetName(const PerturbationTarget& t) {
   if (t.kind == PerturbationTarget::Kind::kParticleShift) return Format("particle %d", t.i);
   return Format("contact %d-%d", t.i, t.j);
