@@ -27,6 +27,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--seed", seed, "random seed")->capture_default_str();
   app.add_option("--dt", dt, "time step (default 1e-2 pressure, 5e-3 gravity)")->check(CLI::PositiveNumber);
   app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton)")->capture_default_str();
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();
@@ -139,6 +140,7 @@ nlohmann::json PackFlags::Parameters() const {
   p["dt"] = TimeStep(*this);
   p["step_tol"] = step_tol;
   p["step_iter"] = step_iter;
+  if (backend != "nsgs") p["backend"] = backend;  // absent from files made before the option
   p["rest_speed"] = rest_speed;
   p["check_iter"] = check_iter;
   return p;
@@ -149,6 +151,7 @@ int RunPack(const PackFlags& f) {
   const nlohmann::json parameters = f.Parameters();
   StepOptions step;
   step.dt = TimeStep(f);
+  step.backend = f.backend;
   Scene scene = InitialScene(f);
   scene.provenance = Provenance(parameters);
   Simulation sim(scene, step);
@@ -158,6 +161,7 @@ int RunPack(const PackFlags& f) {
   relax.rest_speed = f.rest_speed;
   relax.max_steps = f.max_steps;
   relax.static_max_iterations = f.check_iter;
+  relax.static_backend = f.backend;
   relax.progress_interval = f.quiet ? 0 : 1000;
   relax.progress = PrintProgress;
   if (!f.quiet) relax.on_check = PrintCheck;

@@ -22,6 +22,7 @@ struct PackFlags {
   std::optional<double> dt;
   double step_tol = 1e-4;
   int step_iter = 500;
+  std::string backend = "nsgs";
   double rest_speed = 1e-2;
   int check_iter = 100000;
   int max_steps = 1000000;

@@ -32,6 +32,7 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_option("--dt", dt, "time step of the quasi-static perturbation step")->capture_default_str();
   a.add_option("--response-tol", response_tol, "solver tolerance as a fraction of xi (unless --tol)")->capture_default_str();
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
+  solver.backend = "newton";  // the default for responses of size ξ (PerturbationOptions)
   solver.Register(a);
   a.get_option("--tol")->description("the solver tolerance itself (default: set by --response-tol)")->default_str("");
   a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");

@@ -66,6 +66,7 @@ bool CloseCarryingContacts(Scene& state, const EquilibriumSystem& system, const 
 bool StaticCheck(const Scene& state, const RelaxOptions& o, RelaxReport& report) {
   StaticSolveOptions check;
   check.closed_gap_tolerance = o.closed_gap_tolerance;
+  check.backend = o.static_backend;
   check.solver.tolerance = o.static_tolerance;
   check.solver.max_iterations = o.static_max_iterations;
   report.final_check = SolveStatic(state, check);

@@ -129,7 +129,9 @@ TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
   ASSERT_EQ(top.size(), 1u);
   EXPECT_EQ(top[0].i, 2);
   const PerturbationResult r = Perturb(base, top[0], o);
-  EXPECT_FALSE(r.ok());
+  // Newton finds forces ~200× the static ones that make the residual relative to them look
+  // small while the disks overlap by ξ/2: measured against the static force scale, refused.
+  EXPECT_FALSE(r.ok()) << r.f_crit << " " << r.solve.residual;
   EXPECT_NE(r.status, "ok");
 }
 
@@ -206,12 +208,17 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
   const EnsembleSummary summary = Summarize(records, layout, EnsembleOptions{});
   EXPECT_EQ(summary.used, 2);
   EXPECT_NEAR(summary.ratio, 1.0, 1e-6);
+  // At fixed volume the cell's degree of freedom is gone and the packing is hyperstatic
+  // by one: the static network itself is a self-stress (rigid grains at fixed volume have
+  // an undetermined pressure). Solutions are f* + c f_static, so F_crit/F_cont − 1 = c =
+  // ΔP/P, whichever c the solver selects.
   PerturbationOptions volume = o;
   volume.cell = CellCondition::kFixedVolume;
   const PerturbationResult v = Perturb(base, targets[0], volume);
   ASSERT_EQ(v.status, "ok") << v.solve.residual;
   EXPECT_EQ(v.cell_strain, 0.0);
-  EXPECT_NEAR(v.f_crit / v.f_reference, 1.0, 1e-6);
+  EXPECT_NEAR(v.f_crit / v.f_reference - 1.0, v.pressure_change / base.pressure, 1e-6);
+  EXPECT_LT(std::abs(v.pressure_change / base.pressure), 0.05);
 }
 
 }  // namespace

@@ -43,6 +43,7 @@ struct RelaxOptions {
   double closure_gap = 1e-6;             // contacts this close may carry force and be closed
   double closed_gap_tolerance = 1e-9;    // as the static solve
   int max_steps = 1000000;
+  std::string static_backend = "nsgs";    // of the static check (the steps use the simulation's)
   double static_tolerance = 1e-10;
   int static_max_iterations = 100000;
   double equilibrium_tolerance = 1e-8;

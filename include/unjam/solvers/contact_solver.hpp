@@ -31,6 +31,12 @@ struct SolverOptions {
   std::uint64_t seed = 1;        // random sweep order
   // NSGS: the true residual is evaluated every `check_interval` sweeps (it costs a sweep).
   int check_interval = 10;
+  // Newton: iteration limit (each one a sparse LU factorisation), the smallest proximal
+  // regularisation ε of sticking rows relative to the local Delassus diagonal, and the
+  // residual to which NSGS warms up before the first Newton step (newton.cpp).
+  int newton_max_iterations = 200;
+  double newton_regularization = 1e-10;
+  double newton_warmup_tolerance = 1e-5;
 };
 // Throws std::invalid_argument naming the option, the value and the rule.
 void Validate(const SolverOptions& options);

@@ -1,0 +1,371 @@
+// Semismooth Newton on the Alart–Curnier function (Alart & Curnier 1991), with UMFPACK.
+//
+// Per contact k, with ρ_k = 1/W_nn (as in the residual), posed velocity ũ = (ũ_n, u_t)
+// and the augmented normal impulse ξ_n = r_n − ρ ũ_n:
+//   Φ_n = r_n − max(0, ξ_n)
+//   Φ_t = r_t − Π_[−μ ξ_n⁺, μ ξ_n⁺](r_t − ρ u_t)
+// and for a held (bilateral) contact Φ_n = ρ ũ_n, Φ_t = r_t. Φ = 0 exactly when the
+// Signorini–Coulomb law holds, the same solution set as the unjam residual's natural map.
+//
+// Why the augmented (velocity, impulse) system and not the Delassus matrix: a pressure
+// bath couples every contact to the cell rate λ, so W = H M⁻¹ Hᵀ is dense; the
+// augmented matrix
+//     [ I     −M⁻¹Hᵀ ] [Δv]   [ 0 ]
+//     [ B H     A    ] [Δr] = [ −Φ ]
+// stays sparse (λ is one more column and row). A = ∂Φ/∂r, B = ∂Φ/∂ũ are 2×2 per contact.
+//
+// Why a proximal point: jammed frictional packings are hyperstatic, H has dependent rows,
+// and the rows of sticking contacts (A = 0) make the Newton matrix singular. Newton
+// therefore solves a sequence of proximal subproblems (Rockafellar's proximal point, the
+// PROX method of Acary et al. 2018): the same law with ρũ replaced by
+//     ρũ + ε (r − r_c),     r_c the current centre,
+// i.e. W + (ε/ρ) I instead of W. Each subproblem is well posed; its Newton matrix is the
+// one above with A + ε B/ρ, and its own merit makes the line search consistent. At a
+// fixed point r = r_c the law itself holds. The centre moves after each subproblem; ε
+// shrinks when subproblems are easy and grows when the line search fails. Self-stress
+// components move only as far as the law demands, so a warm start (the static forces
+// before a perturbation) picks the solution nearest to it.
+//
+// Globalisation. Semismooth Newton on a jammed packing from far away wanders: the active
+// set (open, stick, slide) of hundreds of contacts changes at every step and the line
+// search takes tiny steps (measured: 200 iterations without convergence on frictional
+// perturbations). So NSGS, robust far from the solution, runs first to the warm-up
+// tolerance, and Newton, fast near it, finishes. If Newton stalls (no halving of the
+// residual in 15 iterations), NSGS resumes from Newton's best point to a 100× tighter
+// warm-up, then Newton again (at most 4 rounds). Newton steps use Armijo backtracking on
+// θ = ½‖Φ‖². Convergence is declared on the unjam residual, never on θ, and the best
+// iterate seen is returned.
+#include "newton.hpp"
+#include "nsgs.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include <Eigen/SparseCore>
+#include <Eigen/UmfPackSupport>
+
+#include "unjam/problem/kinematics.hpp"
+#include "unjam/solvers/residual.hpp"
+
+namespace unjam {
+
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// The generalised Jacobian of Φ_k: Φ_k's derivatives in r_k (A) and in ũ_k (B), and
+// which rows are "velocity rows" (A = 0 there) that get the proximal term.
+struct LocalJacobian {
+  Eigen::Matrix2d a = Eigen::Matrix2d::Identity();
+  Eigen::Matrix2d b = Eigen::Matrix2d::Zero();
+  bool velocity_row[2] = {false, false};
+};
+
+struct LocalValue {
+  Eigen::Vector2d phi = Eigen::Vector2d::Zero();
+  LocalJacobian jacobian;
+};
+
+LocalValue AlartCurnier(const ProblemContact& c, double rho, bool frictional,
+                        const Eigen::Vector2d& r, const Eigen::Vector2d& u) {
+  LocalValue out;
+  LocalJacobian& J = out.jacobian;
+  if (rho == 0.0) {  // no degrees of freedom on either side: the contact cannot act
+    out.phi = Eigen::Vector2d(r[0], frictional ? r[1] : 0.0);
+    return out;
+  }
+  if (c.kind == ConstraintKind::kBilateral) {
+    out.phi = Eigen::Vector2d(rho * u[0], frictional ? r[1] : 0.0);
+    J.a(0, 0) = 0.0;
+    J.b(0, 0) = rho;
+    J.velocity_row[0] = true;
+    return out;
+  }
+  const double xi_n = r[0] - rho * u[0];
+  if (xi_n <= 0.0) {  // separating: r = 0
+    out.phi = Eigen::Vector2d(r[0], frictional ? r[1] : 0.0);
+    return out;
+  }
+  out.phi[0] = rho * u[0];
+  J.a(0, 0) = 0.0;
+  J.b(0, 0) = rho;
+  J.velocity_row[0] = true;
+  if (!frictional) return out;
+  const double tau = r[1] - rho * u[1];
+  const double bound = c.mu * xi_n;
+  if (std::abs(tau) <= bound) {  // sticking
+    out.phi[1] = rho * u[1];
+    J.a(1, 1) = 0.0;
+    J.b(1, 1) = rho;
+    J.velocity_row[1] = true;
+  } else {  // sliding: r_t = ±μ ξ_n
+    const double s = tau > 0.0 ? 1.0 : -1.0;
+    out.phi[1] = r[1] - s * bound;
+    J.a(1, 0) = -s * c.mu;
+    J.b(1, 0) = s * c.mu * rho;
+  }
+  return out;
+}
+
+// Fixed data of the problem in matrix form.
+struct Operators {
+  SparseMatrix h;            // NumUnknowns × NumDofs
+  SparseMatrix minv_ht;      // M⁻¹ Hᵀ
+  Eigen::VectorXd v_free;
+  Eigen::VectorXd offset;    // ũ = H v + offset
+  std::vector<double> rho;
+};
+
+Operators MakeOperators(const ContactProblem& p) {
+  Operators op;
+  op.h = AssembleJacobian(p);
+  op.minv_ht = InverseMassDiagonal(p).asDiagonal() * op.h.transpose();
+  op.v_free = FreeVelocityVector(p);
+  op.offset = VelocityOffset(p);
+  op.rho.resize(p.NumContacts());
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    const Eigen::Vector2d w = DelassusDiagonal(p, k);
+    op.rho[k] = w[0] > 0.0 ? 1.0 / w[0] : (w[1] > 0.0 ? 1.0 / w[1] : 0.0);
+  }
+  return op;
+}
+
+struct Evaluation {
+  Eigen::VectorXd phi;
+  std::vector<LocalJacobian> local;
+  double merit = 0.0;  // ½‖Φ‖²
+};
+
+// Φ of the proximal subproblem with centre `center` and weight ε (ε = 0: the law itself).
+Evaluation Evaluate(const ContactProblem& p, const Operators& op, const Eigen::VectorXd& r,
+                    const Eigen::VectorXd& center, double epsilon) {
+  const int m = p.UnknownsPerContact();
+  const Eigen::VectorXd v = op.v_free + op.minv_ht * r;
+  const Eigen::VectorXd u = op.h * v + op.offset;
+  Evaluation e;
+  e.phi.resize(r.size());
+  e.local.resize(p.NumContacts());
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    Eigen::Vector2d rk = Eigen::Vector2d::Zero(), uk = Eigen::Vector2d::Zero();
+    for (int i = 0; i < m; ++i) {
+      rk[i] = r[k * m + i];
+      uk[i] = u[k * m + i];
+      if (op.rho[k] > 0.0) uk[i] += epsilon / op.rho[k] * (r[k * m + i] - center[k * m + i]);
+    }
+    LocalValue lv = AlartCurnier(p.contacts[k], op.rho[k], p.frictional, rk, uk);
+    for (int i = 0; i < m; ++i) e.phi[k * m + i] = lv.phi[i];
+    e.local[k] = lv.jacobian;
+  }
+  e.merit = 0.5 * e.phi.squaredNorm();
+  return e;
+}
+
+// The augmented Newton matrix of the subproblem. Every structural entry is emitted, zero
+// or not, so that the sparsity pattern (and UMFPACK's symbolic analysis) never changes.
+SparseMatrix NewtonMatrix(const ContactProblem& p, const Operators& op,
+                          const std::vector<LocalJacobian>& local, double epsilon) {
+  const int nd = p.NumDofs();
+  const int nu = p.NumUnknowns();
+  const int m = p.UnknownsPerContact();
+  Triplets t;
+  t.reserve(nd + 3 * op.minv_ht.nonZeros() + 4 * nu);
+  for (int i = 0; i < nd; ++i) t.emplace_back(i, i, 1.0);
+  for (int col = 0; col < op.minv_ht.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(op.minv_ht, col); it; ++it) {
+      t.emplace_back(it.row(), nd + col, -it.value());
+    }
+  }
+  // Row i of B H = Σ_j B_ij H_row(j), over the rows j of the same contact.
+  for (int dof = 0; dof < op.h.outerSize(); ++dof) {  // column-major: outer = dof
+    for (SparseMatrix::InnerIterator it(op.h, dof); it; ++it) {
+      const int k = static_cast<int>(it.row()) / m;
+      const int j = static_cast<int>(it.row()) % m;
+      for (int i = 0; i < m; ++i) t.emplace_back(nd + k * m + i, dof, local[k].b(i, j) * it.value());
+    }
+  }
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    const double shift = op.rho[k] > 0.0 ? epsilon / op.rho[k] : 0.0;
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; j < m; ++j) {
+        t.emplace_back(nd + k * m + i, nd + k * m + j, local[k].a(i, j) + shift * local[k].b(i, j));
+      }
+    }
+  }
+  SparseMatrix k(nd + nu, nd + nu);
+  k.setFromTriplets(t.begin(), t.end());
+  return k;
+}
+
+Eigen::VectorXd InitialImpulses(const ContactProblem& p) {
+  if (p.initial_guess.size() == p.NumUnknowns()) return p.initial_guess;
+  return Eigen::VectorXd::Zero(p.NumUnknowns());
+}
+
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxBacktracks = 30;
+constexpr double kEpsilonFloor = 1e-14;
+constexpr double kEpsilonMax = 1e2;
+constexpr double kSubproblemReduction = 1e-3;  // a subproblem is solved when θ_ε falls by this
+constexpr int kStallIterations = 15;  // Newton iterations without halving the best residual
+constexpr int kMaxRounds = 4;         // NSGS warm-up + Newton rounds
+
+struct Iterate {
+  Eigen::VectorXd impulses;
+  double residual = 0.0;
+};
+
+// One proximal Newton phase from `start`: until the tolerance, a stall, a failure or the
+// budget. Returns the best iterate seen (the unjam residual can rise while θ_ε falls).
+class NewtonPhase {
+ public:
+  NewtonPhase(const ContactProblem& p, const SolverOptions& o) : p_(p), o_(o), op_(MakeOperators(p)) {}
+
+  Iterate Run(const Iterate& start, int& budget, std::string& failure) {
+    Iterate best = start;
+    Eigen::VectorXd r = start.impulses;
+    Eigen::VectorXd center = r;
+    double epsilon = EpsilonMin();
+    Evaluation eval = Evaluate(p_, op_, r, center, epsilon);
+    double target = kSubproblemReduction * eval.merit;  // of the current subproblem
+    int inner = 0;
+    int since_progress = 0;
+    double progress_mark = best.residual;
+    while (best.residual > o_.tolerance && budget > 0 && since_progress < kStallIterations) {
+      --budget;
+      ++iterations_;
+      ++since_progress;
+      Eigen::VectorXd step;
+      double alpha = 1.0;
+      Evaluation trial;
+      if (!Direction(eval, epsilon, step) || !LineSearch(r, center, epsilon, step, eval, alpha, trial)) {
+        // A stronger proximal term makes the subproblem better conditioned.
+        if (epsilon >= kEpsilonMax) { failure = "line search failed at the largest proximal weight"; break; }
+        epsilon = std::min(epsilon * 100.0, kEpsilonMax);
+        center = r;
+        eval = Evaluate(p_, op_, r, center, epsilon);
+        target = kSubproblemReduction * eval.merit;
+        inner = 0;
+        continue;
+      }
+      r += alpha * step;
+      eval = std::move(trial);
+      ++inner;
+      const double res = ComputeResidual(p_, r).residual;
+      if (!std::isfinite(res)) { failure = "non-finite impulses"; break; }
+      if (res < best.residual) best = {r, res};
+      if (best.residual <= 0.5 * progress_mark) {
+        progress_mark = best.residual;
+        since_progress = 0;
+      }
+      if (eval.merit <= target) {  // subproblem solved: move the centre
+        if (inner <= 3) epsilon = std::max(epsilon * 0.1, EpsilonMin());
+        center = r;
+        eval = Evaluate(p_, op_, r, center, epsilon);
+        target = kSubproblemReduction * eval.merit;
+        inner = 0;
+      }
+    }
+    return best;
+  }
+
+  int iterations() const { return iterations_; }
+
+ private:
+  double EpsilonMin() const { return std::max(o_.newton_regularization, kEpsilonFloor); }
+
+  bool Direction(const Evaluation& eval, double epsilon, Eigen::VectorXd& step) {
+    const SparseMatrix k = NewtonMatrix(p_, op_, eval.local, epsilon);
+    if (!analysed_) { lu_.analyzePattern(k); analysed_ = true; }
+    lu_.factorize(k);
+    if (lu_.info() != Eigen::Success) {
+      lu_.compute(k);  // the pivot order of the first analysis no longer fits
+      if (lu_.info() != Eigen::Success) return false;
+    }
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k.rows());
+    rhs.tail(p_.NumUnknowns()) = -eval.phi;
+    step = lu_.solve(rhs).tail(p_.NumUnknowns());
+    return step.allFinite();
+  }
+
+  // Armijo backtracking on θ_ε with the model decrease of a Newton step, 2θ_ε.
+  bool LineSearch(const Eigen::VectorXd& r, const Eigen::VectorXd& center, double epsilon,
+                  const Eigen::VectorXd& step, const Evaluation& eval, double& alpha,
+                  Evaluation& trial) const {
+    for (int b = 0; b < kMaxBacktracks; ++b, alpha *= 0.5) {
+      trial = Evaluate(p_, op_, r + alpha * step, center, epsilon);
+      if (std::isfinite(trial.merit) && trial.merit <= (1.0 - 2.0 * kArmijo * alpha) * eval.merit) return true;
+    }
+    return false;
+  }
+
+  const ContactProblem& p_;
+  const SolverOptions& o_;
+  const Operators op_;
+  Eigen::UmfPackLU<SparseMatrix> lu_;
+  bool analysed_ = false;
+  int iterations_ = 0;
+};
+// NSGS from `start` to `tolerance`: the warm-up that brings Newton into its basin.
+Iterate WarmUp(const ContactProblem& p, const SolverOptions& o, const Iterate& start,
+               double tolerance, SolveReport& report, int& sweeps) {
+  ContactProblem warm = p;
+  warm.initial_guess = start.impulses;
+  SolverOptions nsgs = o;
+  nsgs.tolerance = tolerance;
+  const SolveResult s = NsgsSolver().Solve(warm, nsgs);
+  report.contact_updates += s.report.contact_updates;
+  sweeps += s.report.iterations;
+  return {s.impulses, s.report.residual};
+}
+
+}  // namespace
+
+SolveResult NewtonSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(options);
+  const auto start = std::chrono::steady_clock::now();
+  SolveResult result;
+  SolveReport& report = result.report;
+  report.backend = Name();
+  Iterate best{InitialImpulses(p), 0.0};
+  best.residual = ComputeResidual(p, best.impulses).residual;
+
+  NewtonPhase newton(p, options);
+  int budget = options.newton_max_iterations;
+  std::string failure;
+  int sweeps = 0;
+  double warmup = options.newton_warmup_tolerance;
+  for (int round = 0; round < kMaxRounds && best.residual > options.tolerance && budget > 0; ++round) {
+    if (best.residual > warmup) {
+      const Iterate warmed = WarmUp(p, options, best, warmup, report, sweeps);
+      if (warmed.residual < best.residual) best = warmed;
+    }
+    failure.clear();
+    const Iterate polished = newton.Run(best, budget, failure);
+    if (polished.residual < best.residual) best = polished;
+    // Not there yet: warm up further from the best point, past where Newton stalled.
+    warmup = std::min(warmup, best.residual) * 1e-2;
+  }
+  result.impulses = best.impulses;
+  report.iterations = newton.iterations();
+  report.residual = best.residual;
+  if (!std::isfinite(best.residual)) {
+    report.status = SolveStatus::kNumericalFailure;
+    report.message = "non-finite impulses";
+  } else if (best.residual <= options.tolerance) {
+    report.status = SolveStatus::kConverged;
+  } else if (!failure.empty()) {
+    report.status = SolveStatus::kNumericalFailure;
+    report.message = failure;
+  } else {
+    report.status = SolveStatus::kIterationLimit;
+    report.message = "Newton stalled or reached its iteration limit before the tolerance";
+  }
+  if (sweeps > 0) report.message += (report.message.empty() ? "" : "; ") + std::to_string(sweeps) + " NSGS warm-up sweeps";
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace unjam

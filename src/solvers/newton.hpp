@@ -1,0 +1,15 @@
+// Semismooth Newton on the Alart–Curnier function of the exact Signorini–Coulomb law
+// ("newton"): the high-accuracy backend. See newton.cpp.
+#pragma once
+
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+class NewtonSolver final : public ContactSolver {
+ public:
+  std::string Name() const override { return "newton"; }
+  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
+};
+
+}  // namespace unjam
