@@ -155,12 +155,6 @@ double InertiaRatio(const PerturbationBase& base, const std::vector<Vec2>& d, do
   return base.mean_contact_force > 0.0 ? largest / base.mean_contact_force : largest;
 }
 
-double MeanNormal(const std::vector<Eigen::Vector2d>& forces) {
-  double sum = 0.0;
-  for (const Eigen::Vector2d& f : forces) sum += std::abs(f[0]);
-  return forces.empty() || sum == 0.0 ? 1.0 : sum / static_cast<double>(forces.size());
-}
-
 // The largest displacement in units of ξ, at least 1: the solver tolerance is set for a
 // response of size ξ, and a response n times larger is resolved by an n times larger one.
 double ResponseSize(const std::vector<Vec2>& d, double gap) {
@@ -263,7 +257,8 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   r.quasi_static = r.inertia_ratio <= options.max_inertia_ratio;
   // The residual is relative to the solution's own force scale; a solution with runaway
   // forces (pushing into a rigid column) must not pass by inflating it.
-  const double absolute = r.solve.residual * std::max(1.0, MeanNormal(s.forces) / MeanNormal(base.forces));
+  const double scale_ratio = base.mean_contact_force > 0.0 ? s.equilibrium.mean_contact_force / base.mean_contact_force : 1.0;
+  const double absolute = r.solve.residual * std::max(1.0, scale_ratio);
   r.resolved = absolute <= solve.solver.tolerance * ResponseSize(r.displacement, options.gap);
   r.status = !r.resolved ? "not-converged" : !r.quasi_static ? "dynamic" : "ok";
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -56,12 +56,10 @@ namespace {
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
-// The generalised Jacobian of Φ_k: Φ_k's derivatives in r_k (A) and in ũ_k (B), and
-// which rows are "velocity rows" (A = 0 there) that get the proximal term.
+// The generalised Jacobian of Φ_k: Φ_k's derivatives in r_k (A) and in ũ_k (B).
 struct LocalJacobian {
   Eigen::Matrix2d a = Eigen::Matrix2d::Identity();
   Eigen::Matrix2d b = Eigen::Matrix2d::Zero();
-  bool velocity_row[2] = {false, false};
 };
 
 struct LocalValue {
@@ -81,7 +79,6 @@ LocalValue AlartCurnier(const ProblemContact& c, double rho, bool frictional,
     out.phi = Eigen::Vector2d(rho * u[0], frictional ? r[1] : 0.0);
     J.a(0, 0) = 0.0;
     J.b(0, 0) = rho;
-    J.velocity_row[0] = true;
     return out;
   }
   const double xi_n = r[0] - rho * u[0];
@@ -92,7 +89,6 @@ LocalValue AlartCurnier(const ProblemContact& c, double rho, bool frictional,
   out.phi[0] = rho * u[0];
   J.a(0, 0) = 0.0;
   J.b(0, 0) = rho;
-  J.velocity_row[0] = true;
   if (!frictional) return out;
   const double tau = r[1] - rho * u[1];
   const double bound = c.mu * xi_n;
@@ -100,7 +96,6 @@ LocalValue AlartCurnier(const ProblemContact& c, double rho, bool frictional,
     out.phi[1] = rho * u[1];
     J.a(1, 1) = 0.0;
     J.b(1, 1) = rho;
-    J.velocity_row[1] = true;
   } else {  // sliding: r_t = ±μ ξ_n
     const double s = tau > 0.0 ? 1.0 : -1.0;
     out.phi[1] = r[1] - s * bound;
@@ -126,10 +121,7 @@ Operators MakeOperators(const ContactProblem& p) {
   op.v_free = FreeVelocityVector(p);
   op.offset = VelocityOffset(p);
   op.rho.resize(p.NumContacts());
-  for (int k = 0; k < p.NumContacts(); ++k) {
-    const Eigen::Vector2d w = DelassusDiagonal(p, k);
-    op.rho[k] = w[0] > 0.0 ? 1.0 / w[0] : (w[1] > 0.0 ? 1.0 / w[1] : 0.0);
-  }
+  for (int k = 0; k < p.NumContacts(); ++k) op.rho[k] = ResidualWeight(p, k);
   return op;
 }
 

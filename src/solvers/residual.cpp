@@ -28,12 +28,6 @@ Eigen::Vector2d LocalMass(const ContactProblem& p, int k) {
   return Eigen::Vector2d(w[0] > 0.0 ? 1.0 / w[0] : 0.0, w[1] > 0.0 ? 1.0 / w[1] : 0.0);
 }
 
-// ρ_k: the normal effective mass of contact k, which turns a velocity into an impulse.
-double ResidualWeight(const ContactProblem& p, int k) {
-  const Eigen::Vector2d m = LocalMass(p, k);
-  return m[0] > 0.0 ? m[0] : m[1];
-}
-
 double ContactError(const ContactProblem& p, int k, const Eigen::Vector2d& r,
                     const Eigen::Vector2d& u) {
   const ProblemContact& c = p.contacts[k];
@@ -51,6 +45,11 @@ double ContactError(const ContactProblem& p, int k, const Eigen::Vector2d& r,
 }
 
 }  // namespace
+
+double ResidualWeight(const ContactProblem& p, int k) {
+  const Eigen::Vector2d m = LocalMass(p, k);
+  return m[0] > 0.0 ? m[0] : m[1];
+}
 
 ResidualBreakdown ComputeResidual(const ContactProblem& p, const Eigen::VectorXd& impulses) {
   ResidualBreakdown out;

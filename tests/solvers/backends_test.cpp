@@ -6,9 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "test_scenes.hpp"
+#include "test_problems.hpp"
 #include "unjam/io/packing_file.hpp"
-#include "unjam/problem/assembly.hpp"
 #include "unjam/protocols/static_solve.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 #include "unjam/solvers/residual.hpp"
@@ -16,31 +15,8 @@
 namespace unjam {
 namespace {
 
-// One free disk (m = 1/2, I = 1/4, arm 1/2) on a floor, pushed down with velocity
-// (vt, −vn): W_nn = 2, W_tt = 3, so the exact impulse is known in closed form.
-ContactProblem OneContact(double vn, double vt, double mu) {
-  ContactProblem p;
-  p.dt = 1e-3;
-  p.frictional = true;
-  p.inv_mass = {2.0};
-  p.inv_inertia = {4.0};
-  p.free_velocity = {Vec2(vt, -vn)};
-  p.free_spin = {0.0};
-  ProblemContact c;
-  c.body_i = 0;
-  c.normal = Vec2(0.0, -1.0);
-  c.arm_i = 0.5;
-  c.mu = mu;
-  p.contacts = {c};
-  return p;
-}
-
-ContactProblem StackProblem(int k, double mu) {
-  const Scene s = testing::Stack(k, 0.5, 1.0, mu);
-  AssemblyOptions o;
-  o.dt = 1.0;
-  return AssembleProblem(s, DetectContacts(s, 1e-6), o).problem;
-}
+using testing::OneContact;
+using testing::StackProblem;
 
 std::string Bundled(const std::string& name) { return std::string(UNJAM_SOURCE_DIR) + "/problems/" + name; }
 

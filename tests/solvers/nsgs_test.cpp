@@ -3,32 +3,15 @@
 
 #include <cmath>
 
-#include "test_scenes.hpp"
-#include "unjam/problem/assembly.hpp"
+#include "test_problems.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 #include "unjam/solvers/residual.hpp"
 
 namespace unjam {
 namespace {
 
-// One free disk of mass m on a floor, pushed down with velocity (vt, −vn): the exact
-// local solution is known in closed form.
-ContactProblem OneContact(double vn, double vt, double mu) {
-  ContactProblem p;
-  p.dt = 1e-3;
-  p.frictional = true;
-  p.inv_mass = {2.0};
-  p.inv_inertia = {4.0};
-  p.free_velocity = {Vec2(vt, -vn)};
-  p.free_spin = {0.0};
-  ProblemContact c;
-  c.body_i = 0;
-  c.normal = Vec2(0.0, -1.0);  // from the disk to the floor
-  c.arm_i = 0.5;
-  c.mu = mu;
-  p.contacts = {c};
-  return p;
-}
+using testing::OneContact;
+using testing::StackProblem;
 
 TEST(Cone, ProjectionOfInsideEdgeAndPolarPoints) {
   const double mu = 0.5;
@@ -68,12 +51,6 @@ TEST(Nsgs, SolvesOneContactExactlyInOneSweep) {
   }
 }
 
-ContactProblem StackProblem(int k, double mu) {
-  const Scene s = testing::Stack(k, 0.5, 1.0, mu);
-  AssemblyOptions o;
-  o.dt = 1.0;
-  return AssembleProblem(s, DetectContacts(s, 1e-6), o).problem;
-}
 
 TEST(Nsgs, ReportsTheIterationLimitInsteadOfHidingIt) {
   SolverOptions o;

@@ -23,6 +23,10 @@ struct ResidualBreakdown {
   int worst_contact = -1;
 };
 
+// ρ_k of the natural map: 1/W_nn (1/W_tt if W_nn vanishes, 0 if both do). Backends that
+// pose the law with an augmentation parameter use the same one (newton.cpp).
+double ResidualWeight(const ContactProblem& problem, int k);
+
 ResidualBreakdown ComputeResidual(const ContactProblem& problem, const Eigen::VectorXd& impulses);
 
 // Projection of the impulse (r_n, r_t) on the 2D Coulomb cone |r_t| ≤ μ r_n.
