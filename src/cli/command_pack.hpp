@@ -39,6 +39,5 @@ struct PackFlags {
 };
 
 int RunPack(const PackFlags& flags);
-int RunMainJob();
 
 }  // namespace unjam::cli

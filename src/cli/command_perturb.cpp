@@ -200,7 +200,8 @@ std::string DisplacementCsv(const PerturbationBase& base, const PerturbationResu
   return os.str();
 }
 
-// The full fields of one perturbation: CSV, and VTK (ParaView) / extended XYZ (OVITO).
+}  // namespace
+
 void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& base, const PerturbationResult& r) {
   WriteFileAtomically(dir / "displacement.csv", DisplacementCsv(base, r));
   ParticleField field;
@@ -212,6 +213,8 @@ void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& ba
   WriteVtk(base.scene, field, dir / "response.vtk");
   WriteExtendedXyz(base.scene, field, dir / "response.xyz");
 }
+
+namespace {
 
 // A mean over no sample is no number.
 nlohmann::json MeanOrNull(const MeanAndError& m) { return m.count > 0 ? NumberOrNull(m.mean) : nlohmann::json(nullptr); }

@@ -2,12 +2,14 @@
 // the same state, and what they measure (docs/perturbations.md, docs/cli.md).
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
+#include "unjam/protocols/perturbation.hpp"
 
 namespace unjam::cli {
 
@@ -33,5 +35,9 @@ struct PerturbFlags {
 };
 
 int RunPerturb(const PerturbFlags& flags);
+
+// The full fields of one perturbation in DIR: displacement.csv (particle, x, y, radius,
+// dx, dy, rotation), response.vtk (ParaView) and response.xyz (OVITO).
+void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& base, const PerturbationResult& result);
 
 }  // namespace unjam::cli

@@ -10,6 +10,7 @@
 #include "command_bounds.hpp"
 #include "command_pack.hpp"
 #include "command_perturb.hpp"
+#include "main_job.hpp"
 #include "unjam/io/packing_file.hpp"
 
 namespace {
@@ -19,6 +20,8 @@ int Run(int argc, char** argv) {
   CLI::App app{"unjam: how jammed packings of rigid frictional disks respond to local disturbances.\n"
                "Without a command, runs the main job on the bundled default packing."};
   app.require_subcommand(0, 1);
+  MainJobFlags main_job;
+  main_job.Register(app);
 
   std::string info_file;
   bool info_json = false;
@@ -59,12 +62,16 @@ int Run(int argc, char** argv) {
     return kUsageError;
   }
   try {
+    const bool main_job_options = app.count("--sample") + app.count("--seed") + app.count("--out") + app.count("--threads") > 0;
+    if (main_job_options && !app.get_subcommands().empty()) {
+      throw std::invalid_argument("--sample, --seed, --out and --threads before a command belong to the main job (unjam without a command)");
+    }
     if (*info) return RunInfo(info_file, info_json);
     if (*solve) return RunSolve(solve_file, solver, solve_json, solve_list, solve_output);
     if (*pack) return RunPack(pack_flags);
     if (*perturb) return RunPerturb(perturb_flags);
     if (*bounds) return RunBounds(bounds_flags);
-    return RunMainJob();
+    return RunMainJob(main_job);
   } catch (const unjam::InputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());
     return kInputError;
