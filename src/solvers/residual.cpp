@@ -12,8 +12,10 @@ namespace unjam {
 Eigen::Vector2d ProjectOnCone(const Eigen::Vector2d& r, double mu) {
   const double rn = r[0];
   const double rt = r[1];
-  if (std::abs(rt) <= mu * rn) return r;                      // inside the cone
+  // The polar cone first: with μ = 0 a point (r_n < 0, 0) would otherwise pass the
+  // "inside" test |r_t| ≤ μ r_n (0 ≤ −0).
   if (mu * std::abs(rt) <= -rn) return Eigen::Vector2d::Zero();  // inside the polar cone
+  if (std::abs(rt) <= mu * rn) return r;                         // inside the cone
   // Onto the nearer edge (1, ±μ)/√(1+μ²).
   const double s = rt >= 0.0 ? 1.0 : -1.0;
   const double along = (rn + mu * s * rt) / (1.0 + mu * mu);
