@@ -3,6 +3,7 @@
 
 #include "cli_common.hpp"
 #include "command_pack.hpp"
+#include "command_solve.hpp"
 
 namespace unjam::cli {
 
@@ -12,9 +13,10 @@ int RunMainJob() {
   std::printf("== what the packing holds (unjam info %s)\n", path.c_str());
   if (int rc = RunInfo(path, false); rc != kOk) return rc;
   std::printf("\n== its static contact forces (unjam solve %s --tol 1e-10)\n", path.c_str());
-  SolverFlags flags;
-  flags.options.tolerance = 1e-10;
-  return RunSolve(path, flags, false, false, "");
+  SolveFlags flags;
+  flags.file = path;
+  flags.solver.options.tolerance = 1e-10;
+  return RunSolve(flags);
 }
 
 }  // namespace unjam::cli
