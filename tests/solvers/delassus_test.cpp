@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <set>
 
 #include "test_problems.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -121,6 +122,29 @@ TEST(SolveDelassus, NsgsAndNewtonSolveTheWForm) {
     const SolveResult r = MakeSolver(name)->SolveDelassus(Diagonal(-1.0, 0.4, 1.0), SolverOptions{});
     EXPECT_EQ(r.report.status, SolveStatus::kConverged) << name << ": " << r.report.message;
   }
+}
+
+TEST(SolveDelassus, NsgsHonoursEverySweepOrderAndRelaxation) {
+  // The frictionless stack has unique forces: contact c from the floor carries (k − c) weights.
+  const int k = 12;
+  const DelassusProblem p = ToDelassusProblem(StackProblem(k, 0.0));
+  const double w = std::numbers::pi * 0.25;
+  std::set<int> sweeps;  // each option changes the iteration, so the sweep counts differ
+  for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric}) {
+    for (double omega : {1.0, 1.5}) {
+      SolverOptions o;
+      o.sweep_order = order;
+      o.relaxation = omega;
+      o.tolerance = 1e-13;
+      o.check_interval = 1;
+      const SolveResult r = MakeSolver("nsgs")->SolveDelassus(p, o);
+      ASSERT_TRUE(r.report.converged()) << ToString(order) << " " << omega;
+      EXPECT_NEAR(r.impulses[0], k * w, 1e-9) << ToString(order) << " " << omega;
+      EXPECT_EQ(r.report.contact_updates, static_cast<std::int64_t>(r.report.iterations) * k);
+      sweeps.insert(r.report.iterations);
+    }
+  }
+  EXPECT_EQ(sweeps.size(), 6u);
 }
 
 class DelassusBackend : public ::testing::TestWithParam<std::string> {
