@@ -52,7 +52,5 @@ std::string EffectsSummary(const Scene& scene);
 const char* PeriodicityName(Periodicity p);
 
 int RunInfo(const std::string& path, bool json);
-int RunSolve(const std::string& path, const SolverFlags& flags, bool json, bool list_forces,
-             const std::string& output);
 
 }  // namespace unjam::cli

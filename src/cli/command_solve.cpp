@@ -1,9 +1,12 @@
-// `unjam solve FILE`: the static contact forces of a saved packing.
+// `unjam solve FILE`: the static contact forces of a saved packing; a Siconos .dat problem
+// goes to command_solve_stored.cpp.
+#include "command_solve.hpp"
+
 #include <cstdio>
 
-#include "cli_common.hpp"
 #include "unjam/analysis/equilibrium.hpp"
 #include "unjam/io/packing_file.hpp"
+#include "unjam/io/siconos_problem.hpp"
 
 namespace unjam::cli {
 
@@ -34,12 +37,29 @@ void PrintForces(const StaticSolution& s) {
 
 }  // namespace
 
-int RunSolve(const std::string& path, const SolverFlags& flags, bool json, bool list_forces,
-             const std::string& output) {
+void SolveFlags::Register(CLI::App& app) {
+  app.add_option("FILE", file, "packing file (.unjam) or Siconos 2D friction-contact problem (.dat)")->required();
+  solver.Register(app);
+  app.add_flag("--json", json, "one JSON object on stdout");
+  app.add_flag("--forces", forces, "list every contact force (.dat: every impulse)");
+  app.add_option("-o,--output", output, "write the packing with the solved forces (.dat: the impulses, one contact per line)");
+  app.add_option("--export-problem", export_problem, "write the contact problem as a Siconos .dat file (sparse-block storage)");
+}
+
+int RunSolve(const SolveFlags& flags) {
+  if (IsSiconosFile(flags.file)) return RunSolveStored(flags);
+  const std::string& path = flags.file;
+  const bool json = flags.json;
+  const std::string& output = flags.output;
   Scene scene = ReadPacking(path);
   StaticSolveOptions options;
-  options.backend = flags.backend;
-  options.solver = flags.Resolve();
+  options.backend = flags.solver.backend;
+  options.solver = flags.solver.Resolve();
+  // Written before solving: the problem does not depend on the solution, and a problem
+  // that cannot be exported (a held contact) stops the command before the work.
+  if (!flags.export_problem.empty()) {
+    WriteSiconosProblem(ToDelassusProblem(PoseStaticProblem(scene, options).assembled.problem), flags.export_problem);
+  }
   const StaticSolution s = SolveStatic(scene, options);
   const Coordination z = ComputeCoordination(scene, s.contacts, s.forces);
   if (!output.empty()) {
@@ -59,15 +79,17 @@ int RunSolve(const std::string& path, const SolverFlags& flags, bool json, bool 
     out["max_end_speed"] = s.max_speed;
     if (PeriodicY(scene.cell.periodicity)) out["pressure"] = s.equilibrium.pressure;
     if (!output.empty()) out["output"] = output;
+    if (!flags.export_problem.empty()) out["exported_problem"] = flags.export_problem;
     std::printf("%s\n", out.dump().c_str());
   } else {
     PrintTable(scene, s, z);
-    if (list_forces) PrintForces(s);
+    if (!flags.export_problem.empty()) std::printf("exported problem  %s\n", flags.export_problem.c_str());
+    if (flags.forces) PrintForces(s);
   }
   if (!s.report.converged()) {
     std::fprintf(stderr, "unjam solve: the solver did not converge (%s, residual %.3e > tolerance %.3e)\n",
                  ToString(s.report.status), s.report.residual, options.solver.tolerance);
-    if (flags.require_converged) return kNotConverged;
+    if (flags.solver.require_converged) return kNotConverged;
   }
   return kOk;
 }

@@ -10,6 +10,7 @@
 #include "command_bounds.hpp"
 #include "command_pack.hpp"
 #include "command_perturb.hpp"
+#include "command_solve.hpp"
 #include "main_job.hpp"
 #include "unjam/io/packing_file.hpp"
 
@@ -29,15 +30,9 @@ int Run(int argc, char** argv) {
   info->add_option("FILE", info_file, "packing file (.unjam)")->required();
   info->add_flag("--json", info_json, "one JSON object on stdout");
 
-  std::string solve_file, solve_output;
-  bool solve_json = false, solve_list = false;
-  SolverFlags solver;
-  CLI::App* solve = app.add_subcommand("solve", "static contact forces of a saved packing");
-  solve->add_option("FILE", solve_file, "packing file (.unjam)")->required();
-  solver.Register(*solve);
-  solve->add_flag("--json", solve_json, "one JSON object on stdout");
-  solve->add_flag("--forces", solve_list, "list every contact force");
-  solve->add_option("-o,--output", solve_output, "write the packing with the solved forces to this file");
+  SolveFlags solve_flags;
+  CLI::App* solve = app.add_subcommand("solve", "static contact forces of a saved packing, or a stored Siconos 2D friction-contact problem (.dat)");
+  solve_flags.Register(*solve);
 
   PackFlags pack_flags;
   CLI::App* pack = app.add_subcommand("pack", "make a static packing and save it with its forces");
@@ -67,7 +62,7 @@ int Run(int argc, char** argv) {
       throw std::invalid_argument("--sample, --seed, --out and --threads before a command belong to the main job (unjam without a command)");
     }
     if (*info) return RunInfo(info_file, info_json);
-    if (*solve) return RunSolve(solve_file, solver, solve_json, solve_list, solve_output);
+    if (*solve) return RunSolve(solve_flags);
     if (*pack) return RunPack(pack_flags);
     if (*perturb) return RunPerturb(perturb_flags);
     if (*bounds) return RunBounds(bounds_flags);

@@ -1,6 +1,7 @@
 #include "unjam/protocols/static_solve.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include "unjam/problem/assembly.hpp"
 #include "unjam/problem/kinematics.hpp"
@@ -45,16 +46,25 @@ void RecordMotion(const AssembledProblem& assembled, const VelocityState& v, dou
 }
 }  // namespace
 
-StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options) {
+StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& options) {
   const Scene rest = AtRest(scene);
-  StaticSolution out;
+  StaticProblem out;
   out.contacts = DetectContacts(rest, options.margin);
   EnsurePrescribedContacts(rest, out.contacts);
   AssemblyOptions assembly;
   assembly.dt = options.dt;
   assembly.closed_gap_tolerance = options.closed_gap_tolerance;
-  AssembledProblem assembled = AssembleProblem(rest, out.contacts, assembly);
-  assembled.problem.initial_guess = StoredForcesGuess(scene, out.contacts, assembled, options.dt);
+  out.assembled = AssembleProblem(rest, out.contacts, assembly);
+  out.assembled.problem.initial_guess = StoredForcesGuess(scene, out.contacts, out.assembled, options.dt);
+  return out;
+}
+
+StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options) {
+  const Scene rest = AtRest(scene);
+  StaticSolution out;
+  StaticProblem posed = PoseStaticProblem(scene, options);
+  out.contacts = std::move(posed.contacts);
+  const AssembledProblem& assembled = posed.assembled;
   const ContactProblem& p = assembled.problem;
 
   SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver);

@@ -35,6 +35,9 @@
 // warm-up, then Newton again (at most 4 rounds). Newton steps use Armijo backtracking on
 // θ = ½‖Φ‖². Convergence is declared on the unjam residual, never on θ, and the best
 // iterate seen is returned.
+//
+// Delassus form (ũ = W r + q, delassus_problem.hpp): the same system with H = I, M⁻¹Hᵀ = W
+// and v_free = q, so that v = q + W r is ũ itself; the NSGS warm-up is NSGS on W.
 #include "newton.hpp"
 #include "nsgs.hpp"
 
@@ -67,7 +70,7 @@ struct LocalValue {
   LocalJacobian jacobian;
 };
 
-LocalValue AlartCurnier(const ProblemContact& c, double rho, bool frictional,
+LocalValue AlartCurnier(const ContactLaw& c, double rho, bool frictional,
                         const Eigen::Vector2d& r, const Eigen::Vector2d& u) {
   LocalValue out;
   LocalJacobian& J = out.jacobian;
@@ -92,7 +95,7 @@ LocalValue AlartCurnier(const ProblemContact& c, double rho, bool frictional,
   if (!frictional) return out;
   const double tau = r[1] - rho * u[1];
   const double bound = c.mu * xi_n;
-  if (std::abs(tau) <= bound) {  // sticking
+  if (bound > 0.0 && std::abs(tau) <= bound) {  // sticking (never with μ = 0: r_t = 0 slides)
     out.phi[1] = rho * u[1];
     J.a(1, 1) = 0.0;
     J.b(1, 1) = rho;
@@ -105,23 +108,44 @@ LocalValue AlartCurnier(const ProblemContact& c, double rho, bool frictional,
   return out;
 }
 
-// Fixed data of the problem in matrix form.
+// Fixed data of the problem in matrix form: v = v_free + M⁻¹Hᵀ r, ũ = H v + offset.
 struct Operators {
+  int per_contact = 2;       // unknowns per contact
   SparseMatrix h;            // NumUnknowns × NumDofs
   SparseMatrix minv_ht;      // M⁻¹ Hᵀ
   Eigen::VectorXd v_free;
-  Eigen::VectorXd offset;    // ũ = H v + offset
+  Eigen::VectorXd offset;
   std::vector<double> rho;
+  std::vector<ContactLaw> laws;
+
+  int NumContacts() const { return static_cast<int>(laws.size()); }
+  int NumUnknowns() const { return static_cast<int>(h.rows()); }
+  int NumDofs() const { return static_cast<int>(h.cols()); }
 };
 
 Operators MakeOperators(const ContactProblem& p) {
   Operators op;
+  op.per_contact = p.UnknownsPerContact();
   op.h = AssembleJacobian(p);
   op.minv_ht = InverseMassDiagonal(p).asDiagonal() * op.h.transpose();
   op.v_free = FreeVelocityVector(p);
   op.offset = VelocityOffset(p);
-  op.rho.resize(p.NumContacts());
-  for (int k = 0; k < p.NumContacts(); ++k) op.rho[k] = ResidualWeight(p, k);
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    op.rho.push_back(ResidualWeight(p, k));
+    op.laws.push_back({p.contacts[k].mu, p.contacts[k].kind});
+  }
+  return op;
+}
+
+Operators MakeOperators(const DelassusProblem& p) {
+  Operators op;
+  op.h.resize(p.NumUnknowns(), p.NumUnknowns());
+  op.h.setIdentity();
+  op.minv_ht = p.w;
+  op.v_free = p.q;
+  op.offset = Eigen::VectorXd::Zero(p.NumUnknowns());
+  op.laws = p.laws;
+  for (int k = 0; k < p.NumContacts(); ++k) op.rho.push_back(ResidualWeight(p, k));
   return op;
 }
 
@@ -132,22 +156,22 @@ struct Evaluation {
 };
 
 // Φ of the proximal subproblem with centre `center` and weight ε (ε = 0: the law itself).
-Evaluation Evaluate(const ContactProblem& p, const Operators& op, const Eigen::VectorXd& r,
-                    const Eigen::VectorXd& center, double epsilon) {
-  const int m = p.UnknownsPerContact();
+Evaluation Evaluate(const Operators& op, const Eigen::VectorXd& r, const Eigen::VectorXd& center,
+                    double epsilon) {
+  const int m = op.per_contact;
   const Eigen::VectorXd v = op.v_free + op.minv_ht * r;
   const Eigen::VectorXd u = op.h * v + op.offset;
   Evaluation e;
   e.phi.resize(r.size());
-  e.local.resize(p.NumContacts());
-  for (int k = 0; k < p.NumContacts(); ++k) {
+  e.local.resize(op.NumContacts());
+  for (int k = 0; k < op.NumContacts(); ++k) {
     Eigen::Vector2d rk = Eigen::Vector2d::Zero(), uk = Eigen::Vector2d::Zero();
     for (int i = 0; i < m; ++i) {
       rk[i] = r[k * m + i];
       uk[i] = u[k * m + i];
       if (op.rho[k] > 0.0) uk[i] += epsilon / op.rho[k] * (r[k * m + i] - center[k * m + i]);
     }
-    LocalValue lv = AlartCurnier(p.contacts[k], op.rho[k], p.frictional, rk, uk);
+    LocalValue lv = AlartCurnier(op.laws[k], op.rho[k], m == 2, rk, uk);
     for (int i = 0; i < m; ++i) e.phi[k * m + i] = lv.phi[i];
     e.local[k] = lv.jacobian;
   }
@@ -157,11 +181,10 @@ Evaluation Evaluate(const ContactProblem& p, const Operators& op, const Eigen::V
 
 // The augmented Newton matrix of the subproblem. Every structural entry is emitted, zero
 // or not, so that the sparsity pattern (and UMFPACK's symbolic analysis) never changes.
-SparseMatrix NewtonMatrix(const ContactProblem& p, const Operators& op,
-                          const std::vector<LocalJacobian>& local, double epsilon) {
-  const int nd = p.NumDofs();
-  const int nu = p.NumUnknowns();
-  const int m = p.UnknownsPerContact();
+SparseMatrix NewtonMatrix(const Operators& op, const std::vector<LocalJacobian>& local, double epsilon) {
+  const int nd = op.NumDofs();
+  const int nu = op.NumUnknowns();
+  const int m = op.per_contact;
   Triplets t;
   t.reserve(nd + 3 * op.minv_ht.nonZeros() + 4 * nu);
   for (int i = 0; i < nd; ++i) t.emplace_back(i, i, 1.0);
@@ -178,7 +201,7 @@ SparseMatrix NewtonMatrix(const ContactProblem& p, const Operators& op,
       for (int i = 0; i < m; ++i) t.emplace_back(nd + k * m + i, dof, local[k].b(i, j) * it.value());
     }
   }
-  for (int k = 0; k < p.NumContacts(); ++k) {
+  for (int k = 0; k < op.NumContacts(); ++k) {
     const double shift = op.rho[k] > 0.0 ? epsilon / op.rho[k] : 0.0;
     for (int i = 0; i < m; ++i) {
       for (int j = 0; j < m; ++j) {
@@ -191,7 +214,8 @@ SparseMatrix NewtonMatrix(const ContactProblem& p, const Operators& op,
   return k;
 }
 
-Eigen::VectorXd InitialImpulses(const ContactProblem& p) {
+template <class Problem>
+Eigen::VectorXd InitialImpulses(const Problem& p) {
   if (p.initial_guess.size() == p.NumUnknowns()) return p.initial_guess;
   return Eigen::VectorXd::Zero(p.NumUnknowns());
 }
@@ -211,16 +235,17 @@ struct Iterate {
 
 // One proximal Newton phase from `start`: until the tolerance, a stall, a failure or the
 // budget. Returns the best iterate seen (the unjam residual can rise while θ_ε falls).
+template <class Problem>
 class NewtonPhase {
  public:
-  NewtonPhase(const ContactProblem& p, const SolverOptions& o) : p_(p), o_(o), op_(MakeOperators(p)) {}
+  NewtonPhase(const Problem& p, const SolverOptions& o) : p_(p), o_(o), op_(MakeOperators(p)) {}
 
   Iterate Run(const Iterate& start, int& budget, std::string& failure) {
     Iterate best = start;
     Eigen::VectorXd r = start.impulses;
     Eigen::VectorXd center = r;
     double epsilon = EpsilonMin();
-    Evaluation eval = Evaluate(p_, op_, r, center, epsilon);
+    Evaluation eval = Evaluate(op_, r, center, epsilon);
     double target = kSubproblemReduction * eval.merit;  // of the current subproblem
     int inner = 0;
     int since_progress = 0;
@@ -237,7 +262,7 @@ class NewtonPhase {
         if (epsilon >= kEpsilonMax) { failure = "line search failed at the largest proximal weight"; break; }
         epsilon = std::min(epsilon * 100.0, kEpsilonMax);
         center = r;
-        eval = Evaluate(p_, op_, r, center, epsilon);
+        eval = Evaluate(op_, r, center, epsilon);
         target = kSubproblemReduction * eval.merit;
         inner = 0;
         continue;
@@ -255,7 +280,7 @@ class NewtonPhase {
       if (eval.merit <= target) {  // subproblem solved: move the centre
         if (inner <= 3) epsilon = std::max(epsilon * 0.1, EpsilonMin());
         center = r;
-        eval = Evaluate(p_, op_, r, center, epsilon);
+        eval = Evaluate(op_, r, center, epsilon);
         target = kSubproblemReduction * eval.merit;
         inner = 0;
       }
@@ -269,7 +294,7 @@ class NewtonPhase {
   double EpsilonMin() const { return std::max(o_.newton_regularization, kEpsilonFloor); }
 
   bool Direction(const Evaluation& eval, double epsilon, Eigen::VectorXd& step) {
-    const SparseMatrix k = NewtonMatrix(p_, op_, eval.local, epsilon);
+    const SparseMatrix k = NewtonMatrix(op_, eval.local, epsilon);
     if (!analysed_) { lu_.analyzePattern(k); analysed_ = true; }
     lu_.factorize(k);
     if (lu_.info() != Eigen::Success) {
@@ -277,8 +302,8 @@ class NewtonPhase {
       if (lu_.info() != Eigen::Success) return false;
     }
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k.rows());
-    rhs.tail(p_.NumUnknowns()) = -eval.phi;
-    step = lu_.solve(rhs).tail(p_.NumUnknowns());
+    rhs.tail(op_.NumUnknowns()) = -eval.phi;
+    step = lu_.solve(rhs).tail(op_.NumUnknowns());
     return step.allFinite();
   }
 
@@ -287,44 +312,47 @@ class NewtonPhase {
                   const Eigen::VectorXd& step, const Evaluation& eval, double& alpha,
                   Evaluation& trial) const {
     for (int b = 0; b < kMaxBacktracks; ++b, alpha *= 0.5) {
-      trial = Evaluate(p_, op_, r + alpha * step, center, epsilon);
+      trial = Evaluate(op_, r + alpha * step, center, epsilon);
       if (std::isfinite(trial.merit) && trial.merit <= (1.0 - 2.0 * kArmijo * alpha) * eval.merit) return true;
     }
     return false;
   }
 
-  const ContactProblem& p_;
+  const Problem& p_;
   const SolverOptions& o_;
   const Operators op_;
   Eigen::UmfPackLU<SparseMatrix> lu_;
   bool analysed_ = false;
   int iterations_ = 0;
 };
+SolveResult SolveWithNsgs(const ContactProblem& p, const SolverOptions& o) { return NsgsSolver().Solve(p, o); }
+SolveResult SolveWithNsgs(const DelassusProblem& p, const SolverOptions& o) { return NsgsSolver().SolveDelassus(p, o); }
+
 // NSGS from `start` to `tolerance`: the warm-up that brings Newton into its basin.
-Iterate WarmUp(const ContactProblem& p, const SolverOptions& o, const Iterate& start,
-               double tolerance, SolveReport& report, int& sweeps) {
-  ContactProblem warm = p;
+template <class Problem>
+Iterate WarmUp(const Problem& p, const SolverOptions& o, const Iterate& start, double tolerance,
+               SolveReport& report, int& sweeps) {
+  Problem warm = p;
   warm.initial_guess = start.impulses;
   SolverOptions nsgs = o;
   nsgs.tolerance = tolerance;
-  const SolveResult s = NsgsSolver().Solve(warm, nsgs);
+  const SolveResult s = SolveWithNsgs(warm, nsgs);
   report.contact_updates += s.report.contact_updates;
   sweeps += s.report.iterations;
   return {s.impulses, s.report.residual};
 }
 
-}  // namespace
-
-SolveResult NewtonSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(options);
+// The whole method on either problem form (see the top of the file).
+template <class Problem>
+SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const std::string& name) {
   const auto start = std::chrono::steady_clock::now();
   SolveResult result;
   SolveReport& report = result.report;
-  report.backend = Name();
+  report.backend = name;
   Iterate best{InitialImpulses(p), 0.0};
   best.residual = ComputeResidual(p, best.impulses).residual;
 
-  NewtonPhase newton(p, options);
+  NewtonPhase<Problem> newton(p, options);
   int budget = options.newton_max_iterations;
   std::string failure;
   int sweeps = 0;
@@ -358,6 +386,19 @@ SolveResult NewtonSolver::Solve(const ContactProblem& p, const SolverOptions& op
   if (sweeps > 0) report.message += (report.message.empty() ? "" : "; ") + std::to_string(sweeps) + " NSGS warm-up sweeps";
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+}  // namespace
+
+SolveResult NewtonSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(options);
+  return SolveNewton(p, options, Name());
+}
+
+SolveResult NewtonSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
+  Validate(p);
+  Validate(options);
+  return SolveNewton(p, options, Name());
 }
 
 }  // namespace unjam

@@ -10,6 +10,7 @@ class NewtonSolver final : public ContactSolver {
  public:
   std::string Name() const override { return "newton"; }
   SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
+  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;
 };
 
 }  // namespace unjam

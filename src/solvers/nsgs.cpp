@@ -11,11 +11,11 @@
 // A bilateral (held) contact takes r_n = −ũ⁰_n / W_nn of either sign and r_t = 0.
 // Over-relaxation blends the old and new impulse and projects back onto the cone.
 #include "nsgs.hpp"
+#include "sweeps.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <vector>
 
 #include "unjam/problem/kinematics.hpp"
@@ -42,20 +42,6 @@ struct Row {
 
 struct Body {
   double vx, vy, w;
-};
-
-// SplitMix64: a tiny, fast, well-mixed generator for the sweep order.
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t Next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  std::uint32_t Below(std::uint32_t n) {  // Lemire's multiply-shift, bias < 2⁻³²·n
-    return static_cast<std::uint32_t>(((Next() >> 32) * n) >> 32);
-  }
 };
 
 std::vector<Row> MakeRows(const ContactProblem& p) {
@@ -174,20 +160,6 @@ void Sweep(const std::vector<Row>& rows, const std::vector<std::uint32_t>& order
   for (std::uint32_t k : order) UpdateContact<kFrictional>(rows[k], static_cast<int>(k), omega, s);
 }
 
-void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<std::uint32_t>& order) {
-  const std::uint32_t n = static_cast<std::uint32_t>(order.size());
-  switch (kind) {
-    case SweepOrder::kForward:
-      return;
-    case SweepOrder::kSymmetric:  // forward, backward, forward, …
-      if (sweep > 0) std::reverse(order.begin(), order.end());
-      return;
-    case SweepOrder::kRandom:
-      for (std::uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.Below(i)]);
-      return;
-  }
-}
-
 Eigen::VectorXd Impulses(const ContactProblem& p, const State& s) {
   Eigen::VectorXd r(p.NumUnknowns());
   for (int k = 0; k < p.NumContacts(); ++k) {
@@ -204,37 +176,15 @@ SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& opti
   const auto start = std::chrono::steady_clock::now();
   const std::vector<Row> rows = MakeRows(p);
   State state = InitialState(p);
-  std::vector<std::uint32_t> order(p.NumContacts());
-  std::iota(order.begin(), order.end(), 0u);
-  SplitMix64 rng{options.seed};
-
   SolveResult result;
   result.report.backend = Name();
-  ResidualBreakdown residual = ComputeResidual(p, Impulses(p, state));
-  int sweep = 0;
-  while (residual.residual > options.tolerance && sweep < options.max_iterations) {
-    const int batch = std::min(options.check_interval, options.max_iterations - sweep);
-    for (int b = 0; b < batch; ++b, ++sweep) {
-      NextOrder(options.sweep_order, sweep, rng, order);
-      if (p.frictional) Sweep<true>(rows, order, options.relaxation, state);
-      else Sweep<false>(rows, order, options.relaxation, state);
-    }
-    result.report.contact_updates += static_cast<std::int64_t>(batch) * p.NumContacts();
-    residual = ComputeResidual(p, Impulses(p, state));
-    if (!std::isfinite(residual.residual)) break;
-  }
+  auto sweep = [&](const std::vector<std::uint32_t>& order) {
+    if (p.frictional) Sweep<true>(rows, order, options.relaxation, state);
+    else Sweep<false>(rows, order, options.relaxation, state);
+  };
+  auto residual = [&] { return ComputeResidual(p, Impulses(p, state)).residual; };
+  solvers_internal::RunSweeps(p.NumContacts(), options, sweep, residual, result.report);
   result.impulses = Impulses(p, state);
-  result.report.iterations = sweep;
-  result.report.residual = residual.residual;
-  if (!std::isfinite(residual.residual)) {
-    result.report.status = SolveStatus::kNumericalFailure;
-    result.report.message = "non-finite impulses (check masses and time step)";
-  } else if (residual.residual <= options.tolerance) {
-    result.report.status = SolveStatus::kConverged;
-  } else {
-    result.report.status = SolveStatus::kIterationLimit;
-    result.report.message = "iteration limit reached before the tolerance";
-  }
   result.report.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

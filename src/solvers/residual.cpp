@@ -1,9 +1,12 @@
 // The backend-independent residual: natural map of Signorini–Coulomb with the De Saxcé
 // shift, per contact, in impulse units, normalised by an impulse scale. See residual.hpp.
+// Both problem forms reduce to the same per-contact error and the same normalisation.
 #include "unjam/solvers/residual.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
+#include <vector>
 
 #include "unjam/problem/kinematics.hpp"
 
@@ -12,8 +15,10 @@ namespace unjam {
 Eigen::Vector2d ProjectOnCone(const Eigen::Vector2d& r, double mu) {
   const double rn = r[0];
   const double rt = r[1];
-  if (std::abs(rt) <= mu * rn) return r;                      // inside the cone
+  // The polar cone first: with μ = 0 a point (r_n < 0, 0) would otherwise pass the
+  // "inside" test |r_t| ≤ μ r_n (0 ≤ −0).
   if (mu * std::abs(rt) <= -rn) return Eigen::Vector2d::Zero();  // inside the polar cone
+  if (std::abs(rt) <= mu * rn) return r;                         // inside the cone
   // Onto the nearer edge (1, ±μ)/√(1+μ²).
   const double s = rt >= 0.0 ? 1.0 : -1.0;
   const double along = (rn + mu * s * rt) / (1.0 + mu * mu);
@@ -22,62 +27,106 @@ Eigen::Vector2d ProjectOnCone(const Eigen::Vector2d& r, double mu) {
 
 namespace {
 
-// Local effective masses 1/W_nn and 1/W_tt of contact k (0 where W vanishes).
-Eigen::Vector2d LocalMass(const ContactProblem& p, int k) {
-  const Eigen::Vector2d w = DelassusDiagonal(p, k);
-  return Eigen::Vector2d(w[0] > 0.0 ? 1.0 / w[0] : 0.0, w[1] > 0.0 ? 1.0 / w[1] : 0.0);
+// ρ from the local Delassus diagonal (W_nn, W_tt): 1/W_nn, else 1/W_tt, else 0.
+double WeightFromDiagonal(const Eigen::Vector2d& w) {
+  if (w[0] > 0.0) return 1.0 / w[0];
+  return w[1] > 0.0 ? 1.0 / w[1] : 0.0;
 }
 
-double ContactError(const ContactProblem& p, int k, const Eigen::Vector2d& r,
+// e_k of one contact with posed velocity u = (ũ_n, u_t) and weight ρ.
+double ContactError(const ContactLaw& law, bool frictional, double rho, const Eigen::Vector2d& r,
                     const Eigen::Vector2d& u) {
-  const ProblemContact& c = p.contacts[k];
-  const double rho = ResidualWeight(p, k);
-  if (c.kind == ConstraintKind::kBilateral) {
-    return std::hypot(rho * u[0], p.frictional ? r[1] : 0.0);
+  if (law.kind == ConstraintKind::kBilateral) {
+    return std::hypot(rho * u[0], frictional ? r[1] : 0.0);
   }
-  if (!p.frictional) {
+  if (!frictional) {
     return std::abs(r[0] - std::max(0.0, r[0] - rho * u[0]));
   }
   // One scalar ρ for both components: a diagonal scaling would tilt the normal cone of a
   // sliding contact and make the exact solution look wrong.
-  const Eigen::Vector2d shifted(u[0] + c.mu * std::abs(u[1]), u[1]);
-  return (r - ProjectOnCone(r - rho * shifted, c.mu)).norm();
+  const Eigen::Vector2d shifted(u[0] + law.mu * std::abs(u[1]), u[1]);
+  return (r - ProjectOnCone(r - rho * shifted, law.mu)).norm();
 }
+
+// The per-contact inputs of the residual, whichever form they come from.
+struct ContactTerms {
+  std::vector<double> errors;
+  double sum_rn = 0.0;
+  double free_scale = 0.0;  // largest ρ|ũ_n| of the free motion (no impulses)
+};
+
+ResidualBreakdown Summarise(const ContactTerms& t) {
+  ResidualBreakdown out;
+  const int nc = static_cast<int>(t.errors.size());
+  if (nc == 0) return out;
+  // Impulse scale: the mean normal impulse; without any impulse, the largest one a single
+  // contact would need to stop its free approach; failing that, 1.
+  out.scale = t.sum_rn > 0.0 ? t.sum_rn / nc : (t.free_scale > 0.0 ? t.free_scale : 1.0);
+  double sum_sq = 0.0;
+  for (int k = 0; k < nc; ++k) {
+    sum_sq += t.errors[k] * t.errors[k];
+    if (out.worst_contact < 0 || t.errors[k] > t.errors[out.worst_contact]) out.worst_contact = k;
+  }
+  out.residual = t.errors[out.worst_contact] / out.scale;
+  out.rms = std::sqrt(sum_sq / nc) / out.scale;
+  return out;
+}
+
+ContactLaw LawOf(const ProblemContact& c) { return {c.mu, c.kind}; }
+
+Eigen::Vector2d Pair(const Eigen::VectorXd& x, int k) { return Eigen::Vector2d(x[2 * k], x[2 * k + 1]); }
 
 }  // namespace
 
-double ResidualWeight(const ContactProblem& p, int k) {
-  const Eigen::Vector2d m = LocalMass(p, k);
-  return m[0] > 0.0 ? m[0] : m[1];
+double ResidualWeight(const ContactProblem& p, int k) { return WeightFromDiagonal(DelassusDiagonal(p, k)); }
+
+double ResidualWeight(const DelassusProblem& p, int k) {
+  return WeightFromDiagonal(Eigen::Vector2d(p.w.coeff(2 * k, 2 * k), p.w.coeff(2 * k + 1, 2 * k + 1)));
 }
 
 ResidualBreakdown ComputeResidual(const ContactProblem& p, const Eigen::VectorXd& impulses) {
-  ResidualBreakdown out;
   const int nc = p.NumContacts();
-  if (nc == 0) return out;
   const int stride = p.UnknownsPerContact();
   const VelocityState v = EndVelocityState(p, impulses);
-  std::vector<double> errors(nc);
-  double sum_rn = 0.0;
-  double free_scale = 0.0;
   const VelocityState v_free = FreeVelocityState(p);
+  ContactTerms terms;
+  terms.errors.resize(nc);
   for (int k = 0; k < nc; ++k) {
     const Eigen::Vector2d r(impulses[k * stride], p.frictional ? impulses[k * stride + 1] : 0.0);
-    errors[k] = ContactError(p, k, r, PosedVelocity(p, v, k));
-    sum_rn += std::abs(r[0]);
-    free_scale = std::max(free_scale, ResidualWeight(p, k) * std::abs(PosedVelocity(p, v_free, k)[0]));
+    const double rho = ResidualWeight(p, k);
+    terms.errors[k] = ContactError(LawOf(p.contacts[k]), p.frictional, rho, r, PosedVelocity(p, v, k));
+    terms.sum_rn += std::abs(r[0]);
+    terms.free_scale = std::max(terms.free_scale, rho * std::abs(PosedVelocity(p, v_free, k)[0]));
   }
-  // Impulse scale: the mean normal impulse; without any impulse, the largest one a single
-  // contact would need to stop its free approach; failing that, 1.
-  out.scale = sum_rn > 0.0 ? sum_rn / nc : (free_scale > 0.0 ? free_scale : 1.0);
-  double sum_sq = 0.0;
+  return Summarise(terms);
+}
+
+ResidualBreakdown ComputeResidual(const DelassusProblem& p, const Eigen::VectorXd& impulses) {
+  const int nc = p.NumContacts();
+  const Eigen::VectorXd u = p.w * impulses + p.q;
+  const Eigen::VectorXd diagonal = p.w.diagonal();
+  ContactTerms terms;
+  terms.errors.resize(nc);
   for (int k = 0; k < nc; ++k) {
-    sum_sq += errors[k] * errors[k];
-    if (out.worst_contact < 0 || errors[k] > errors[out.worst_contact]) out.worst_contact = k;
+    const Eigen::Vector2d r = Pair(impulses, k);
+    const double rho = WeightFromDiagonal(Pair(diagonal, k));
+    terms.errors[k] = ContactError(p.laws[k], true, rho, r, Pair(u, k));
+    terms.sum_rn += std::abs(r[0]);
+    terms.free_scale = std::max(terms.free_scale, rho * std::abs(p.q[2 * k]));
   }
-  out.residual = errors[out.worst_contact] / out.scale;
-  out.rms = std::sqrt(sum_sq / nc) / out.scale;
-  return out;
+  return Summarise(terms);
+}
+
+double SiconosError(const DelassusProblem& p, const Eigen::VectorXd& impulses) {
+  const Eigen::VectorXd u = p.w * impulses + p.q;
+  double sum_sq = 0.0;
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    const double e = ContactError(p.laws[k], true, 1.0, Pair(impulses, k), Pair(u, k));
+    sum_sq += e * e;
+  }
+  const double norm = std::max({impulses.norm(), u.norm(), p.q.norm()});
+  const double error = std::sqrt(sum_sq);
+  return norm > DBL_EPSILON ? error / norm : error;
 }
 
 }  // namespace unjam

@@ -6,6 +6,7 @@
 #include "newton.hpp"
 #include "nsgs.hpp"
 #include "unjam/solvers/contact_solver.hpp"
+#include "unjam/solvers/residual.hpp"
 
 namespace unjam {
 
@@ -51,6 +52,18 @@ void Validate(const SolverOptions& o) {
   if (o.newton_max_iterations < 0) Reject("newton_max_iterations", o.newton_max_iterations, "must be >= 0");
   if (!(o.newton_regularization >= 0.0) || !std::isfinite(o.newton_regularization)) Reject("newton_regularization", o.newton_regularization, "must be a finite number >= 0");
   if (!(o.newton_warmup_tolerance > 0.0) || !std::isfinite(o.newton_warmup_tolerance)) Reject("newton_warmup_tolerance", o.newton_warmup_tolerance, "must be a positive finite number");
+}
+
+SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
+  Validate(p);
+  Validate(options);
+  SolveResult result;
+  result.impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
+  result.report.backend = Name();
+  result.report.status = SolveStatus::kUnsupported;
+  result.report.residual = ComputeResidual(p, result.impulses).residual;
+  result.report.message = "backend '" + Name() + "' solves body problems only, not Delassus-form (W, q) problems (docs/backends.md)";
+  return result;
 }
 
 std::vector<std::string> AvailableBackends() { return {"nsgs", "newton"}; }

@@ -23,6 +23,14 @@ TEST(Cone, ProjectionOfInsideEdgeAndPolarPoints) {
   EXPECT_NEAR((Eigen::Vector2d(1.0, 2.0) - edge).dot(Eigen::Vector2d(1.0, mu)), 0.0, 1e-15);
 }
 
+TEST(Cone, ProjectionWithoutFrictionIsTheNonNegativeNormalHalfLine) {
+  // With μ = 0 the cone is the half-line r_t = 0, r_n ≥ 0; its polar is r_n ≤ 0.
+  EXPECT_EQ(ProjectOnCone({-1.0, 0.0}, 0.0), Eigen::Vector2d(0.0, 0.0));
+  EXPECT_EQ(ProjectOnCone({-1.0, 0.5}, 0.0), Eigen::Vector2d(0.0, 0.0));
+  EXPECT_EQ(ProjectOnCone({2.0, 0.5}, 0.0), Eigen::Vector2d(2.0, 0.0));
+  EXPECT_EQ(ProjectOnCone({2.0, 0.0}, 0.0), Eigen::Vector2d(2.0, 0.0));
+}
+
 TEST(Residual, ZeroExactlyAtTheClosedFormSolutions) {
   // Sticking: W_nn = 2, W_tt = 2 + 0.25·4 = 3. Normal (0,−1), tangent (1, 0): the slip
   // u_t = −v_x, and r_t > 0 pushes the floor along +x, the disk along −x.

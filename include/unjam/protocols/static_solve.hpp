@@ -15,6 +15,7 @@
 
 #include "unjam/analysis/equilibrium.hpp"
 #include "unjam/contacts/contact.hpp"
+#include "unjam/problem/assembly.hpp"
 #include "unjam/scene/scene.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 
@@ -43,6 +44,15 @@ struct StaticSolution {
 };
 
 StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options);
+
+// The contact problem SolveStatic poses (and solves): the detected contacts and the
+// assembled problem of one step from rest, warm-started from the stored forces. For
+// exporting it (io/siconos_problem.hpp) or handing it to a backend directly.
+struct StaticProblem {
+  std::vector<Contact> contacts;
+  AssembledProblem assembled;
+};
+StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& options);
 
 // The forces as the scene stores them (only force-carrying contacts).
 std::vector<ContactForce> ToContactForces(const StaticSolution& solution);

@@ -1,6 +1,11 @@
 // One small interface for every backend: a ContactProblem in, impulses and a report out.
 // Backends never see the scene. The caller recomputes the residual (residual.hpp) after
 // every solve, whatever the backend claims.
+//
+// A problem may also come in Delassus form (W, q, laws: delassus_problem.hpp), e.g. read
+// from another code's file. A backend solves it through SolveDelassus if it can; the
+// default refuses it with SolveStatus::kUnsupported and a message, so that a backend
+// written for body problems needs no change (docs/backends.md has the support table).
 #pragma once
 
 #include <cstdint>
@@ -11,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "unjam/problem/contact_problem.hpp"
+#include "unjam/problem/delassus_problem.hpp"
 
 namespace unjam {
 
@@ -53,7 +59,7 @@ struct SolveReport {
 };
 
 struct SolveResult {
-  Eigen::VectorXd impulses;      // UnknownsPerContact() per contact: (r_n[, r_t])
+  Eigen::VectorXd impulses;      // UnknownsPerContact() per contact: (r_n[, r_t]); 2 per contact in W form
   SolveReport report;
 };
 
@@ -62,6 +68,10 @@ class ContactSolver {
   virtual ~ContactSolver() = default;
   virtual std::string Name() const = 0;
   virtual SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) = 0;
+  // The same laws posed on ũ = W r + q. Default: status kUnsupported, zero impulses (with
+  // their residual) and a message naming the backend. Throws std::invalid_argument for
+  // inconsistent sizes (Validate(DelassusProblem)) or options.
+  virtual SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options);
 };
 
 // The one place where backends are chosen by name. Throws std::invalid_argument for an

@@ -8,11 +8,16 @@
 // e_k = 0 exactly when contact k obeys Signorini–Coulomb. The reported residual is
 //     max_k e_k / s,   s = mean |r_n| over contacts (a force scale, in impulse units),
 // falling back to the load scale of the problem when every impulse vanishes.
+//
+// The Delassus form (delassus_problem.hpp) is judged by the same formula, with ũ = W r + q
+// and ρ_k from the diagonal of W, so that a packing's problem and its export give the same
+// residual for the same impulses (to rounding: W is assembled, not recomputed per body).
 #pragma once
 
 #include <Eigen/Core>
 
 #include "unjam/problem/contact_problem.hpp"
+#include "unjam/problem/delassus_problem.hpp"
 
 namespace unjam {
 
@@ -26,8 +31,17 @@ struct ResidualBreakdown {
 // ρ_k of the natural map: 1/W_nn (1/W_tt if W_nn vanishes, 0 if both do). Backends that
 // pose the law with an augmentation parameter use the same one (newton.cpp).
 double ResidualWeight(const ContactProblem& problem, int k);
+double ResidualWeight(const DelassusProblem& problem, int k);
 
 ResidualBreakdown ComputeResidual(const ContactProblem& problem, const Eigen::VectorXd& impulses);
+ResidualBreakdown ComputeResidual(const DelassusProblem& problem, const Eigen::VectorXd& impulses);
+
+// Siconos' 2D error (fc2d_compute_error, /work/shared/FORMATS.md): the l2 norm over all
+// contacts of the same natural map with ρ = 1, r − Π_K(r − (u + μ|u_t| e_n)), divided by
+// max(‖r‖, ‖u‖, ‖q‖) with u = W r + q (not divided if that is below machine epsilon). A held
+// contact, which Siconos cannot pose, contributes ‖(u_n, r_t)‖. Offered beside the unjam
+// residual for side-by-side numbers; it is not what tolerances apply to.
+double SiconosError(const DelassusProblem& problem, const Eigen::VectorXd& impulses);
 
 // Projection of the impulse (r_n, r_t) on the 2D Coulomb cone |r_t| ≤ μ r_n.
 Eigen::Vector2d ProjectOnCone(const Eigen::Vector2d& r, double mu);

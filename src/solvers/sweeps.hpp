@@ -1,0 +1,78 @@
+// The outer loop of nonlinear Gauss–Seidel, shared by NSGS on body problems (nsgs.cpp) and
+// on Delassus-form problems (nsgs_delassus.cpp): sweep orders, the residual check every
+// `check_interval` sweeps, and the report. Internal to src/solvers.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam::solvers_internal {
+
+// SplitMix64: a tiny, fast, well-mixed generator for the sweep order.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t Next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  std::uint32_t Below(std::uint32_t n) {  // Lemire's multiply-shift, bias < 2⁻³²·n
+    return static_cast<std::uint32_t>(((Next() >> 32) * n) >> 32);
+  }
+};
+
+inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<std::uint32_t>& order) {
+  const std::uint32_t n = static_cast<std::uint32_t>(order.size());
+  switch (kind) {
+    case SweepOrder::kForward:
+      return;
+    case SweepOrder::kSymmetric:  // forward, backward, forward, …
+      if (sweep > 0) std::reverse(order.begin(), order.end());
+      return;
+    case SweepOrder::kRandom:
+      for (std::uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.Below(i)]);
+      return;
+  }
+}
+
+// Sweeps until `residual()` meets the tolerance or the sweep limit, checking every
+// `check_interval` sweeps; `sweep(order)` performs one sweep over the contacts in `order`.
+// Fills iterations, residual, contact_updates, status and message of `report`.
+template <class SweepFn, class ResidualFn>
+void RunSweeps(int num_contacts, const SolverOptions& o, SweepFn sweep, ResidualFn residual,
+               SolveReport& report) {
+  std::vector<std::uint32_t> order(num_contacts);
+  std::iota(order.begin(), order.end(), 0u);
+  SplitMix64 rng{o.seed};
+  double current = residual();
+  int sweeps = 0;
+  while (current > o.tolerance && sweeps < o.max_iterations) {
+    const int batch = std::min(o.check_interval, o.max_iterations - sweeps);
+    for (int b = 0; b < batch; ++b, ++sweeps) {
+      NextOrder(o.sweep_order, sweeps, rng, order);
+      sweep(order);
+    }
+    report.contact_updates += static_cast<std::int64_t>(batch) * num_contacts;
+    current = residual();
+    if (!std::isfinite(current)) break;
+  }
+  report.iterations = sweeps;
+  report.residual = current;
+  if (!std::isfinite(current)) {
+    report.status = SolveStatus::kNumericalFailure;
+    report.message = "non-finite impulses (check masses and time step)";
+  } else if (current <= o.tolerance) {
+    report.status = SolveStatus::kConverged;
+  } else {
+    report.status = SolveStatus::kIterationLimit;
+    report.message = "iteration limit reached before the tolerance";
+  }
+}
+
+}  // namespace unjam::solvers_internal
