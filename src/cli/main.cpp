@@ -8,6 +8,7 @@
 
 #include "cli_common.hpp"
 #include "command_bounds.hpp"
+#include "command_compare.hpp"
 #include "command_pack.hpp"
 #include "command_perturb.hpp"
 #include "command_solve.hpp"
@@ -46,6 +47,10 @@ int Run(int argc, char** argv) {
   CLI::App* bounds = app.add_subcommand("bounds", "admissible-force bounds per contact and the degree of force indeterminacy");
   bounds_flags.Register(*bounds);
 
+  CompareFlags compare_flags;
+  CLI::App* compare = app.add_subcommand("compare", "every backend on every problem at every tolerance: what accuracy costs in time");
+  compare_flags.Register(*compare);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -66,6 +71,7 @@ int Run(int argc, char** argv) {
     if (*pack) return RunPack(pack_flags);
     if (*perturb) return RunPerturb(perturb_flags);
     if (*bounds) return RunBounds(bounds_flags);
+    if (*compare) return RunCompare(compare_flags);
     return RunMainJob(main_job);
   } catch (const unjam::InputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

@@ -227,6 +227,26 @@ PerturbationBase PreparePerturbations(const Scene& static_scene, const Perturbat
   return base;
 }
 
+namespace {
+// The one step of a perturbation: a static solve of the perturbed scene.
+StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationOptions& options) {
+  StaticSolveOptions solve;
+  solve.dt = options.dt;
+  solve.closed_gap_tolerance = options.closed_gap_tolerance;
+  solve.margin = DetectionMargin(options);
+  solve.backend = options.backend;
+  solve.solver = options.solver;
+  solve.solver.tolerance = SolverToleranceFor(options, base);
+  return solve;
+}
+}  // namespace
+
+ContactProblem PosePerturbationProblem(const PerturbationBase& base, const PerturbationTarget& target,
+                                       const PerturbationOptions& options) {
+  CheckTarget(base, target);
+  return PoseStaticProblem(PerturbedScene(base, target, options), StepOptions(base, options)).assembled.problem;
+}
+
 PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarget& target,
                            const PerturbationOptions& options) {
   const auto start = Clock::now();
@@ -235,13 +255,7 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   r.target = target;
   SetOriginAndReference(base, target, r);
 
-  StaticSolveOptions solve;
-  solve.dt = options.dt;
-  solve.closed_gap_tolerance = options.closed_gap_tolerance;
-  solve.margin = DetectionMargin(options);
-  solve.backend = options.backend;
-  solve.solver = options.solver;
-  solve.solver.tolerance = SolverToleranceFor(options, base);
+  const StaticSolveOptions solve = StepOptions(base, options);
   const StaticSolution s = SolveStatic(PerturbedScene(base, target, options), solve);
 
   r.solve = s.report;
