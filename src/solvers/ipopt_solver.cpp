@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <vector>
 
 #include <IpIpoptApplication.hpp>
@@ -327,6 +328,11 @@ class IpoptStep final : public ConvexStepSolver {
 
 SolveResult IpoptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
   Validate(options);
+  // MUMPS is not thread-safe, and Ipopt 3.11 does not guard it (3.14 added a mutex), while
+  // perturb solves in parallel threads: one Ipopt solve at a time in the process, from the
+  // creation of the application (MUMPS instances live in it) to its destruction.
+  static std::mutex mumps;
+  const std::lock_guard<std::mutex> lock(mumps);
   IpoptStep step(p, options);
   return SolveByDeSaxceFixedPoint(p, options, Name(), step);
 }

@@ -8,6 +8,7 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <thread>
 
 #include "solvers/de_saxce.hpp"
 #include "test_problems.hpp"
@@ -176,6 +177,22 @@ TEST(ConvexBackends, NameTheLibraryStatusWhenTheyStopShort) {
     EXPECT_EQ(r.report.status, SolveStatus::kIterationLimit) << backend;
     EXPECT_NE(r.report.message.find(status), std::string::npos) << backend << ": " << r.report.message;
     EXPECT_NEAR(r.report.residual, ComputeResidual(StackProblem(12, 0.5), r.impulses).residual, 1e-15);
+  }
+}
+
+TEST(ConvexBackends, SolveFromParallelThreadsAsTheyDoAlone) {
+  // perturb solves in parallel threads; MUMPS under Ipopt 3.11 is not thread-safe, so the
+  // ipopt backend serialises its solves (ipopt_solver.cpp). Same answers, no crash.
+  const ContactProblem p = StackProblem(12, 0.5);
+  for (const std::string& backend : kConvexBackends) {
+    const Eigen::VectorXd alone = SolveWith(backend, p, Tolerance(1e-12)).impulses;
+    std::vector<Eigen::VectorXd> results(4);
+    std::vector<std::thread> threads;
+    for (std::size_t t = 0; t < results.size(); ++t) {
+      threads.emplace_back([&, t] { results[t] = SolveWith(backend, p, Tolerance(1e-12)).impulses; });
+    }
+    for (std::thread& t : threads) t.join();
+    for (const Eigen::VectorXd& r : results) EXPECT_EQ(r, alone) << backend;
   }
 }
 
