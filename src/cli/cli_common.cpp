@@ -9,18 +9,23 @@ namespace unjam::cli {
 void SolverFlags::Register(CLI::App& app) {
   app.add_option("--backend", backend, "contact solver backend")->capture_default_str();
   app.add_option("--tol", options.tolerance, "tolerance on the unjam residual (docs/residual.md)")->capture_default_str();
-  app.add_option("--max-iter", options.max_iterations, "NSGS sweep limit (Newton: of its NSGS warm-up)")->capture_default_str();
+  app.add_option("--max-iter", options.max_iterations, "NSGS sweep limit (newton: of its NSGS warm-up; ipopt, nlopt: De Saxce outer iterations)")->capture_default_str();
   app.add_option("--relaxation", options.relaxation, "NSGS over-relaxation factor in (0, 2)")->capture_default_str();
   app.add_option("--order", order, "NSGS sweep order: random, forward, symmetric")->capture_default_str();
   app.add_option("--sweep-seed", options.seed, "seed of the random sweep order")->capture_default_str();
   app.add_option("--newton-iter", options.newton_max_iterations, "Newton iteration limit (each one a sparse LU)")->capture_default_str();
   app.add_option("--warmup-tol", options.newton_warmup_tolerance, "Newton: NSGS warms up to this residual first")->capture_default_str();
+  app.add_flag("--convex-relaxation", options.convex_relaxation, "ipopt, nlopt: solve the convex relaxation once (a different model: sliding contacts separate)");
+  app.add_option("--ipopt-iter", options.ipopt_max_iterations, "ipopt: interior-point iterations per convex solve")->capture_default_str();
+  app.add_option("--nlopt-algorithm", nlopt_algorithm, "nlopt: lbfgs (bounded L-BFGS) or ccsaq")->capture_default_str();
+  app.add_option("--nlopt-eval", options.nlopt_max_evaluations, "nlopt: objective evaluations per convex solve")->capture_default_str();
   app.add_flag("--require-converged", require_converged, "exit with code 3 if the solver did not converge");
 }
 
 SolverOptions SolverFlags::Resolve() const {
   SolverOptions o = options;
   o.sweep_order = SweepOrderFromString(order);
+  o.nlopt_algorithm = NloptAlgorithmFromString(nlopt_algorithm);
   Validate(o);
   MakeSolver(backend);  // throws for an unknown backend, listing the known ones
   return o;

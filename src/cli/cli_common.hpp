@@ -27,6 +27,7 @@ enum ExitCode : int {
 struct SolverFlags {
   std::string backend = "nsgs";
   std::string order = "random";
+  std::string nlopt_algorithm = "lbfgs";
   SolverOptions options;
   bool require_converged = false;
 

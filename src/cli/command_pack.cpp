@@ -27,7 +27,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--seed", seed, "random seed")->capture_default_str();
   app.add_option("--dt", dt, "time step (default 1e-2 pressure, 5e-3 gravity)")->check(CLI::PositiveNumber);
   app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton)")->capture_default_str();
+  app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton, ipopt, nlopt)")->capture_default_str();
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();

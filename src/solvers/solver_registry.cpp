@@ -3,7 +3,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ipopt_solver.hpp"
 #include "newton.hpp"
+#include "nlopt_solver.hpp"
 #include "nsgs.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 #include "unjam/solvers/residual.hpp"
@@ -16,6 +18,7 @@ const char* ToString(SolveStatus status) {
     case SolveStatus::kIterationLimit: return "iteration-limit";
     case SolveStatus::kNumericalFailure: return "numerical-failure";
     case SolveStatus::kUnsupported: return "unsupported";
+    case SolveStatus::kRelaxedModel: return "relaxed-model";
   }
   return "unknown";
 }
@@ -36,6 +39,21 @@ SweepOrder SweepOrderFromString(const std::string& name) {
   throw std::invalid_argument("unknown sweep order '" + name + "' (random, forward, symmetric)");
 }
 
+const char* ToString(NloptAlgorithm algorithm) {
+  switch (algorithm) {
+    case NloptAlgorithm::kLbfgs: return "lbfgs";
+    case NloptAlgorithm::kCcsaq: return "ccsaq";
+  }
+  return "unknown";
+}
+
+NloptAlgorithm NloptAlgorithmFromString(const std::string& name) {
+  for (NloptAlgorithm a : {NloptAlgorithm::kLbfgs, NloptAlgorithm::kCcsaq}) {
+    if (name == ToString(a)) return a;
+  }
+  throw std::invalid_argument("unknown NLopt algorithm '" + name + "' (lbfgs, ccsaq)");
+}
+
 namespace {
 [[noreturn]] void Reject(const std::string& field, double value, const std::string& rule) {
   std::ostringstream os;
@@ -52,6 +70,8 @@ void Validate(const SolverOptions& o) {
   if (o.newton_max_iterations < 0) Reject("newton_max_iterations", o.newton_max_iterations, "must be >= 0");
   if (!(o.newton_regularization >= 0.0) || !std::isfinite(o.newton_regularization)) Reject("newton_regularization", o.newton_regularization, "must be a finite number >= 0");
   if (!(o.newton_warmup_tolerance > 0.0) || !std::isfinite(o.newton_warmup_tolerance)) Reject("newton_warmup_tolerance", o.newton_warmup_tolerance, "must be a positive finite number");
+  if (o.ipopt_max_iterations < 0) Reject("ipopt_max_iterations", o.ipopt_max_iterations, "must be >= 0");
+  if (o.nlopt_max_evaluations < 1) Reject("nlopt_max_evaluations", o.nlopt_max_evaluations, "must be >= 1");
 }
 
 SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
@@ -66,11 +86,13 @@ SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverO
   return result;
 }
 
-std::vector<std::string> AvailableBackends() { return {"nsgs", "newton"}; }
+std::vector<std::string> AvailableBackends() { return {"nsgs", "newton", "ipopt", "nlopt"}; }
 
 std::unique_ptr<ContactSolver> MakeSolver(const std::string& name) {
   if (name == "nsgs") return std::make_unique<NsgsSolver>();
   if (name == "newton") return std::make_unique<NewtonSolver>();
+  if (name == "ipopt") return std::make_unique<IpoptSolver>();
+  if (name == "nlopt") return std::make_unique<NloptSolver>();
   std::string known;
   for (const std::string& b : AvailableBackends()) known += (known.empty() ? "" : ", ") + b;
   throw std::invalid_argument("unknown backend '" + name + "' (available: " + known + ")");

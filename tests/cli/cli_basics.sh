@@ -46,6 +46,16 @@ assert d["residual"] <= 1e-12
 assert abs(d["mean_contact_force"] - 1.5 * math.pi * 0.25) < 1e-10, d["mean_contact_force"]
 PY
 
+# Every backend by name, with its own options; the static stack sticks, so the convex
+# relaxation is the exact law here.
+for args in "--backend newton" "--backend ipopt" "--backend nlopt" "--backend nlopt --nlopt-algorithm ccsaq" \
+            "--backend ipopt --convex-relaxation" "--backend nlopt --convex-relaxation"; do
+  # shellcheck disable=SC2086
+  expect_code 0 "solve $args" "$unjam" solve "$work/stack.unjam" --json --tol 1e-11 $args --require-converged
+  /usr/bin/python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["backend"]==sys.argv[2] and d["converged"], d' \
+    "$work/out" "$(echo $args | cut -d' ' -f2)" || fail "solve $args"
+done
+
 expect_code 0 "solve -o" "$unjam" solve "$work/stack.unjam" -o "$work/solved.unjam"
 grep -q "^forces 2" "$work/solved.unjam" || fail "solve -o does not store the forces"
 expect_code 0 "info on solved" "$unjam" info "$work/solved.unjam"
@@ -63,6 +73,10 @@ expect_code 2 "unknown backend" "$unjam" solve "$work/stack.unjam" --backend sim
 grep -q "simplex" "$work/err" || fail "unknown backend not named"
 expect_code 2 "bad relaxation" "$unjam" solve "$work/stack.unjam" --relaxation 3
 grep -q "relaxation" "$work/err" || fail "bad relaxation not named"
+expect_code 2 "unknown NLopt algorithm" "$unjam" solve "$work/stack.unjam" --backend nlopt --nlopt-algorithm bfgs
+grep -q "bfgs" "$work/err" || fail "unknown NLopt algorithm not named"
+expect_code 2 "bad Ipopt iteration limit" "$unjam" solve "$work/stack.unjam" --backend ipopt --ipopt-iter -1
+grep -q "ipopt_max_iterations" "$work/err" || fail "bad ipopt_max_iterations not named"
 expect_code 2 "unknown command" "$unjam" frobnicate
 
 # Bad input files: exit 1, the file and the line named, no output file left behind.

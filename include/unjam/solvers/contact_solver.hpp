@@ -20,17 +20,26 @@
 
 namespace unjam {
 
-enum class SolveStatus { kConverged, kIterationLimit, kNumericalFailure, kUnsupported };
+// kRelaxedModel: the convex relaxation (SolverOptions::convex_relaxation) was solved to the
+// tolerance, but its impulses do not obey the exact Coulomb law to it (docs/backends.md).
+enum class SolveStatus { kConverged, kIterationLimit, kNumericalFailure, kUnsupported, kRelaxedModel };
 const char* ToString(SolveStatus status);
 
 enum class SweepOrder { kRandom, kForward, kSymmetric };
 const char* ToString(SweepOrder order);
 SweepOrder SweepOrderFromString(const std::string& name);  // throws std::invalid_argument
 
+// NLopt algorithms the nlopt backend offers for its bound-constrained convex step.
+enum class NloptAlgorithm { kLbfgs, kCcsaq };   // NLOPT_LD_LBFGS, NLOPT_LD_CCSAQ
+const char* ToString(NloptAlgorithm algorithm);
+NloptAlgorithm NloptAlgorithmFromString(const std::string& name);  // throws std::invalid_argument
+
 // Options every backend reads; backend-specific ones live beside them, named for it.
 struct SolverOptions {
   double tolerance = 1e-10;      // on the unjam residual (docs/residual.md)
-  int max_iterations = 100000;   // sweeps (NSGS) or outer iterations
+  // NSGS: sweeps. Newton: sweeps of its NSGS warm-up. ipopt, nlopt: outer iterations of
+  // the De Saxcé fixed point (one convex solve each; de_saxce.hpp).
+  int max_iterations = 100000;
   // NSGS: over-relaxation factor in (0, 2); 1 = plain Gauss–Seidel.
   double relaxation = 1.0;
   SweepOrder sweep_order = SweepOrder::kRandom;
@@ -43,6 +52,15 @@ struct SolverOptions {
   int newton_max_iterations = 200;
   double newton_regularization = 1e-10;
   double newton_warmup_tolerance = 1e-5;
+  // ipopt, nlopt: solve the convex relaxation once (no De Saxcé shift) instead of the exact
+  // Coulomb law. A different physical model: sliding contacts separate (docs/backends.md).
+  bool convex_relaxation = false;
+  // ipopt: interior-point iterations allowed to one convex solve (Ipopt's max_iter).
+  int ipopt_max_iterations = 1000;
+  // nlopt: the algorithm, and the objective-and-gradient evaluations allowed to one convex
+  // solve (NLopt's maxeval; one evaluation is two sparse products with the Jacobian).
+  NloptAlgorithm nlopt_algorithm = NloptAlgorithm::kLbfgs;
+  int nlopt_max_evaluations = 200000;
 };
 // Throws std::invalid_argument naming the option, the value and the rule.
 void Validate(const SolverOptions& options);

@@ -1,0 +1,279 @@
+// The De Saxcé fixed point (Acary, Cadoux, Lemaréchal, Marcote 2011; METHOD.md "Comparing
+// solvers"): the exact Coulomb law through a sequence of convex problems.
+//
+//   s⁰ = Shift(ũ(r⁰))                               (r⁰: the warm start, or 0)
+//   repeat: rʲ⁺¹ = argmin_{r ∈ K} ½ rᵀ W r + (q + sʲ)ᵀ r     (a library solves this)
+//           sʲ⁺¹ = Shift(ũ(rʲ⁺¹)) = (μ |u_t(rʲ⁺¹)|, 0)
+// until the unjam residual of rʲ⁺¹ meets the tolerance. A fixed point is a solution of the
+// exact law. Convergence is not guaranteed (the map is a contraction for small μ); in a
+// static state every contact sticks (u_t = 0), the shift vanishes and one solve suffices.
+//
+// Inner tolerance. A convex solve need only be as accurate as the shift it uses is right,
+// so the inner tolerance follows the last move of the shift (ShiftChange, in residual
+// units) and tightens with it, down to a tenth of the outer tolerance once the shift stops
+// moving. Without friction, or for the relaxation, the shift is zero and the first solve
+// is already tight.
+//
+// First shift. From a warm start, the slip of the warm start; from cold, zero (the free
+// velocity's slip is mostly stopped by the contacts). Measured from cold (tolerance 1e-10):
+// starting from the free slip stalls the fixed point near 5e-5 on the N = 100 pile;
+// solving the first problem loosely (1e-3 or 1e-6) stalls it near 4e-10 (ipopt) and 1e-8
+// (nlopt) on the N = 500, μ = 0.5 packing, wandering among sliding states; a tight first
+// solve with zero shift finds both static states in one solve.
+//
+// After each solve, contacts the natural map finds open are zeroed if that lowers the
+// convex residual (ConvexLaw::ZeroOpenContacts), and the best iterate by the true residual
+// is kept. The loop stops at the tolerance, at options.max_iterations convex solves, when a
+// library reports a failure, when the same tight problem brings no improvement (the
+// library's accuracy limit), or after 10 solves without halving the residual.
+#include "de_saxce.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "unjam/solvers/residual.hpp"
+
+namespace unjam {
+
+namespace {
+
+bool IsFrictionalUnilateral(const ContactProblem& p, int k) {
+  return p.frictional && p.contacts[k].kind == ConstraintKind::kUnilateral;
+}
+
+}  // namespace
+
+ConvexLaw::ConvexLaw(const ContactProblem& p) : p_(p), rho_(p.NumContacts()) {
+  for (int k = 0; k < p.NumContacts(); ++k) rho_[k] = ResidualWeight(p, k);
+  fallback_scale_ = ComputeResidual(p, Eigen::VectorXd::Zero(p.NumUnknowns())).scale;
+}
+
+Eigen::Vector2d ConvexLaw::Local(const Eigen::VectorXd& x, int k) const {
+  const int m = p_.UnknownsPerContact();
+  return Eigen::Vector2d(x[k * m], m == 2 ? x[k * m + 1] : 0.0);
+}
+
+Eigen::VectorXd ConvexLaw::Shift(const Eigen::VectorXd& velocity) const {
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(p_.NumUnknowns());
+  for (int k = 0; k < p_.NumContacts(); ++k) {
+    if (IsFrictionalUnilateral(p_, k)) s[2 * k] = p_.contacts[k].mu * std::abs(velocity[2 * k + 1]);
+  }
+  return s;
+}
+
+double ConvexLaw::Scale(const Eigen::VectorXd& impulses) const {
+  double sum = 0.0;
+  for (int k = 0; k < p_.NumContacts(); ++k) sum += std::abs(Local(impulses, k)[0]);
+  return sum > 0.0 ? sum / p_.NumContacts() : fallback_scale_;
+}
+
+// r_k − ρ_k (ũ_k + s_k): the point the natural map projects.
+Eigen::Vector2d ConvexLaw::MapArgument(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+                                       const Eigen::VectorXd& shift, int k) const {
+  return Local(impulses, k) - rho_[k] * (Local(velocity, k) + Local(shift, k));
+}
+
+double ConvexLaw::Residual(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+                           const Eigen::VectorXd& shift) const {
+  if (p_.NumContacts() == 0) return 0.0;
+  double worst = 0.0;
+  for (int k = 0; k < p_.NumContacts(); ++k) {
+    const Eigen::Vector2d r = Local(impulses, k);
+    const Eigen::Vector2d z = MapArgument(impulses, velocity, shift, k);
+    double e = 0.0;
+    if (p_.contacts[k].kind == ConstraintKind::kBilateral) {
+      e = std::hypot(r[0] - z[0], r[1]);  // ρ ũ_n, and r_t = 0
+    } else if (!p_.frictional) {
+      e = std::abs(r[0] - std::max(0.0, z[0]));
+    } else {
+      e = (r - ProjectOnCone(z, p_.contacts[k].mu)).norm();
+    }
+    worst = std::max(worst, e);
+  }
+  return worst / Scale(impulses);
+}
+
+double ConvexLaw::ShiftChange(const Eigen::VectorXd& impulses, const Eigen::VectorXd& before,
+                              const Eigen::VectorXd& after) const {
+  double worst = 0.0;
+  for (int k = 0; k < p_.NumContacts(); ++k) {
+    worst = std::max(worst, rho_[k] * std::abs(Local(after, k)[0] - Local(before, k)[0]));
+  }
+  return worst / Scale(impulses);
+}
+
+Eigen::VectorXd ConvexLaw::ZeroOpenContacts(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+                                            const Eigen::VectorXd& shift) const {
+  Eigen::VectorXd out = impulses;
+  const int m = p_.UnknownsPerContact();
+  for (int k = 0; k < p_.NumContacts(); ++k) {
+    if (p_.contacts[k].kind == ConstraintKind::kBilateral) continue;
+    const Eigen::Vector2d z = MapArgument(impulses, velocity, shift, k);
+    const bool open = p_.frictional ? ProjectOnCone(z, p_.contacts[k].mu).isZero(0.0) : z[0] <= 0.0;
+    if (open) out.segment(k * m, m).setZero();
+  }
+  return out;
+}
+
+namespace {
+
+constexpr double kInnerSafety = 0.1;     // the tightest inner tolerance, × the outer one
+constexpr double kShiftFollow = 0.1;     // inner tolerance × the last move of the shift
+constexpr double kLoosestInner = 1e-3;   // looser convex solves are wasted
+constexpr int kStallIterations = 10;     // outer iterations without halving the residual
+
+struct Iterate {
+  Eigen::VectorXd impulses;
+  double residual = 0.0;
+};
+
+double InnerTolerance(const SolverOptions& o, double shift_change) {
+  return std::max(kInnerSafety * o.tolerance, std::min(kShiftFollow * shift_change, kLoosestInner));
+}
+
+// The step's impulses, with the open contacts zeroed if that lowers the convex residual.
+Iterate Polished(const ContactProblem& p, const ConvexLaw& law, const Eigen::VectorXd& impulses,
+                 const Eigen::VectorXd& shift) {
+  const Eigen::VectorXd u = PosedContactVelocity(p, impulses);
+  const Eigen::VectorXd zeroed = law.ZeroOpenContacts(impulses, u, shift);
+  const Eigen::VectorXd u_zeroed = PosedContactVelocity(p, zeroed);
+  const bool better = law.Residual(zeroed, u_zeroed, shift) <= law.Residual(impulses, u, shift);
+  const Eigen::VectorXd& r = better ? zeroed : impulses;
+  return {r, ComputeResidual(p, r).residual};
+}
+
+Eigen::VectorXd InitialImpulses(const ContactProblem& p) {
+  if (p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite()) return p.initial_guess;
+  return Eigen::VectorXd::Zero(p.NumUnknowns());
+}
+
+// Why the loop stopped, when it stopped short of the tolerance.
+struct Outcome {
+  SolveStatus status = SolveStatus::kIterationLimit;
+  std::string message;
+};
+
+std::string Number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+SolveResult Finish(const ContactProblem& p, const Iterate& chosen, const Outcome& outcome, int solves,
+                   int library_iterations, const SolverOptions& o, const std::string& backend,
+                   const ConvexStepSolver& step, std::chrono::steady_clock::time_point start) {
+  SolveResult result;
+  result.impulses = chosen.impulses;
+  SolveReport& report = result.report;
+  report.backend = backend;
+  report.iterations = solves;
+  report.residual = chosen.residual;
+  if (!std::isfinite(chosen.residual)) {
+    report.status = SolveStatus::kNumericalFailure;
+    report.message = "non-finite impulses";
+  } else if (chosen.residual <= o.tolerance) {
+    report.status = SolveStatus::kConverged;
+  } else {
+    report.status = outcome.status;
+    report.message = outcome.message;
+  }
+  if (p.NumContacts() > 0) {
+    const std::string count = std::to_string(library_iterations) + " " + step.IterationName();
+    report.message += (report.message.empty() ? "" : "; ") + count;
+  }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+// One convex solve without shift: the relaxed model's answer is returned whatever its
+// residual against the exact law.
+SolveResult SolveRelaxation(const ContactProblem& p, const SolverOptions& o, const std::string& backend,
+                            ConvexStepSolver& step) {
+  const auto start = std::chrono::steady_clock::now();
+  const ConvexLaw law(p);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.NumUnknowns());
+  if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step, start);
+  const ConvexStep s = step.Solve(zero, InitialImpulses(p), kInnerSafety * o.tolerance);
+  if (!s.impulses.allFinite()) {
+    return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o, backend, step, start);
+  }
+  const Iterate solution = Polished(p, law, s.impulses, zero);
+  const double own = law.Residual(solution.impulses, PosedContactVelocity(p, solution.impulses), zero);
+  Outcome outcome;
+  if (!s.solved) {
+    outcome = {s.failure, s.library_status};
+  } else if (own <= o.tolerance) {
+    outcome = {SolveStatus::kRelaxedModel,
+               "convex relaxation solved (its own residual " + Number(own) +
+                   "); a different model from the exact Coulomb law, against which the residual is reported"};
+  } else {
+    outcome = {SolveStatus::kIterationLimit, "convex relaxation not solved to the tolerance (its own residual " +
+                                                 Number(own) + ", " + s.library_status + ")"};
+  }
+  return Finish(p, solution, outcome, 1, s.iterations, o, backend, step, start);
+}
+
+}  // namespace
+
+SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOptions& o,
+                                     const std::string& backend, ConvexStepSolver& step) {
+  Validate(o);
+  if (o.convex_relaxation) return SolveRelaxation(p, o, backend, step);
+  const auto start = std::chrono::steady_clock::now();
+  const ConvexLaw law(p);
+  Iterate best{InitialImpulses(p), 0.0};
+  best.residual = ComputeResidual(p, best.impulses).residual;
+  Eigen::VectorXd r = best.impulses;
+  const bool warm = !r.isZero(0.0);  // the first shift: see the top of the file
+  Eigen::VectorXd shift = warm ? law.Shift(PosedContactVelocity(p, r)) : Eigen::VectorXd::Zero(p.NumUnknowns());
+  Eigen::VectorXd previous_shift = Eigen::VectorXd::Zero(p.NumUnknowns());
+
+  Outcome outcome{SolveStatus::kIterationLimit, "outer iteration limit of the De Saxcé fixed point"};
+  int solves = 0;
+  int library_iterations = 0;
+  int since_progress = 0;
+  double progress_mark = best.residual;
+  while (best.residual > o.tolerance && solves < o.max_iterations) {
+    const double inner = InnerTolerance(o, law.ShiftChange(r, previous_shift, shift));
+    const double best_before = best.residual;
+    const ConvexStep s = step.Solve(shift, r, inner);
+    ++solves;
+    library_iterations += s.iterations;
+    if (!s.impulses.allFinite()) {
+      outcome = {SolveStatus::kNumericalFailure, s.library_status + ": non-finite impulses"};
+      break;
+    }
+    const Iterate polished = Polished(p, law, s.impulses, shift);
+    r = polished.impulses;
+    if (polished.residual < best.residual) best = polished;
+    if (!s.solved) {
+      outcome = {s.failure, s.library_status + " in convex solve " + std::to_string(solves)};
+      break;
+    }
+    previous_shift = shift;
+    shift = law.Shift(PosedContactVelocity(p, r));
+    // The same convex problem again, as tight as before, after a solve that did not help:
+    // the library's accuracy, not the shift, is the limit.
+    const double tightest = kInnerSafety * o.tolerance;
+    if (inner <= tightest && InnerTolerance(o, law.ShiftChange(r, previous_shift, shift)) <= tightest &&
+        !(best.residual < best_before)) {
+      outcome = {SolveStatus::kIterationLimit,
+                 "the convex solves stopped improving with the shift settled (the library's accuracy limit)"};
+      break;
+    }
+    if (best.residual <= 0.5 * progress_mark) {
+      progress_mark = best.residual;
+      since_progress = 0;
+    } else if (++since_progress >= kStallIterations) {
+      outcome = {SolveStatus::kIterationLimit, "De Saxcé fixed point stalled (no halving of the residual in " +
+                                                   std::to_string(kStallIterations) + " convex solves)"};
+      break;
+    }
+  }
+  return Finish(p, best, outcome, solves, library_iterations, o, backend, step, start);
+}
+
+}  // namespace unjam

@@ -1,0 +1,86 @@
+// The De Saxcé fixed point shared by the convex backends (ipopt, nlopt). See de_saxce.cpp.
+//
+// The convex step, with W, q of contact_problem.hpp (ũ = W r + q) and a frozen shift s:
+//     minimise ½ rᵀ W r + (q + s)ᵀ r   over r ∈ K = Π_k K_k,
+// K_k the Coulomb cone {|r_t| ≤ μ r_n} (frictional), the half-line r_n ≥ 0 (frictionless),
+// or {r_n free, r_t = 0} for a held (bilateral) contact. Its optimality conditions are
+//     r_k ∈ K_k,  ũ_k + s_k ∈ K_k*,  r_k ⊥ (ũ_k + s_k),
+// and with s_k = (μ_k |u_t,k|, 0) at the solution itself they are exactly Signorini–Coulomb
+// (De Saxcé's bipotential; Acary, Cadoux, Lemaréchal, Marcote 2011).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+// The convex step's law at a frozen shift: the fixed point's measures and helpers.
+// Vectors are laid out as the impulses, UnknownsPerContact() per contact; `velocity` is the
+// posed velocity ũ = W r + q of `impulses`.
+class ConvexLaw {
+ public:
+  explicit ConvexLaw(const ContactProblem& problem);
+
+  // s_k = (μ_k |u_t,k|, 0) for frictional unilateral contacts, 0 elsewhere.
+  Eigen::VectorXd Shift(const Eigen::VectorXd& velocity) const;
+  // The unjam residual (residual.hpp) with the shift frozen at `shift` instead of μ|u_t|:
+  // max_k ‖r_k − Π_K(r_k − ρ_k (ũ_k + s_k))‖ / scale. Equal to ComputeResidual when
+  // shift = Shift(velocity); the measure of a convex step's accuracy.
+  double Residual(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+                  const Eigen::VectorXd& shift) const;
+  // How much the natural map can move when the shift changes from `before` to `after`:
+  // max_k ρ_k |Δs_k| / scale, in the units of the residual.
+  double ShiftChange(const Eigen::VectorXd& impulses, const Eigen::VectorXd& before,
+                     const Eigen::VectorXd& after) const;
+  // The impulses with every unilateral contact that the natural map finds open
+  // (Π_K(r_k − ρ_k (ũ_k + s_k)) = 0) set to exactly 0. An interior point leaves such
+  // contacts at a value of the order of its barrier parameter, which the max-norm residual
+  // sees as an error relative to the mean impulse (and as the whole scale when every
+  // contact opens).
+  Eigen::VectorXd ZeroOpenContacts(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+                                   const Eigen::VectorXd& shift) const;
+
+  double rho(int k) const { return rho_[k]; }
+
+ private:
+  Eigen::Vector2d Local(const Eigen::VectorXd& x, int k) const;
+  Eigen::Vector2d MapArgument(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+                              const Eigen::VectorXd& shift, int k) const;
+  double Scale(const Eigen::VectorXd& impulses) const;
+
+  const ContactProblem& p_;
+  std::vector<double> rho_;      // ResidualWeight: 1 / W_nn
+  double fallback_scale_ = 1.0;  // ComputeResidual's scale when every impulse vanishes
+};
+
+// One convex solve, as a library reports it.
+struct ConvexStep {
+  Eigen::VectorXd impulses;
+  bool solved = false;            // the library reports success
+  SolveStatus failure = SolveStatus::kNumericalFailure;  // what a failure means for the report
+  std::string library_status;     // the library's own name for how it stopped
+  int iterations = 0;             // the library's iterations (or evaluations)
+};
+
+class ConvexStepSolver {
+ public:
+  virtual ~ConvexStepSolver() = default;
+  // Solves the convex step with shift `shift` from `start`, aiming at
+  // ConvexLaw::Residual ≤ `tolerance`.
+  virtual ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
+                           double tolerance) = 0;
+  // What one library iteration is called in the report ("Ipopt iterations").
+  virtual std::string IterationName() const = 0;
+};
+
+// The fixed point on the shift, or the convex relaxation alone (options.convex_relaxation).
+// report.iterations counts convex solves; the true residual of the returned impulses (the
+// best seen) is always in report.residual.
+SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& problem, const SolverOptions& options,
+                                     const std::string& backend, ConvexStepSolver& step);
+
+}  // namespace unjam

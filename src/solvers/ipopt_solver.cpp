@@ -1,0 +1,340 @@
+// The convex step of the De Saxcé fixed point (de_saxce.hpp) as a sparse QP for Ipopt:
+//
+//     minimise ½ rᵀ W r + (q + s)ᵀ r
+//     subject to  μ_k r_n,k − r_t,k ≥ 0,  μ_k r_n,k + r_t,k ≥ 0    (frictional, μ_k > 0)
+//                 r_n,k ≥ 0                                       (frictionless, or μ_k = 0
+//                                                                  with r_t,k = 0)
+//                 r_n,k free, r_t,k = 0                           (held contact)
+//
+// r_n ≥ 0 is left out where the two cone rows imply it: a third active constraint at the
+// apex would make every open contact degenerate for the interior point.
+//
+// Why the cell rate is lifted. A pressure bath adds c cᵀ / (M_λ D V) to W (c_k the cell
+// arms, one per contact): W = W_b + m_λ c cᵀ is dense. With one more variable y and one
+// equality row y = cᵀ r_n, the objective ½ rᵀ W_b r + ½ m_λ y² + (q + s)ᵀ r keeps the Hessian
+// as sparse as the contact network and the Jacobian gains one row of N_c entries.
+//
+// Scaling. Impulses are divided by an impulse scale S (the residual's scale of each solve's
+// start) and the objective by S² w̄ (w̄ the mean W_nn), so that a gradient entry is an
+// impulse relative to S, like the unjam residual, and Ipopt's tolerances mean roughly the
+// same thing as ours. y is measured in units of S·C, C = Σ|c_k|, so the cell row has unit
+// entries on average. Derivatives are constant (hessian_constant, jac_*_constant), the
+// linear solver is MUMPS (the only one in Debian's Ipopt), and Mehrotra's predictor–
+// corrector suits a convex QP.
+#include "ipopt_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <vector>
+
+#include <IpIpoptApplication.hpp>
+#include <IpSolveStatistics.hpp>
+#include <IpTNLP.hpp>
+
+#include <Eigen/SparseCore>
+
+#include "de_saxce.hpp"
+#include "unjam/problem/kinematics.hpp"
+#include "unjam/solvers/residual.hpp"
+
+namespace unjam {
+
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+constexpr double kInfinity = 2e19;  // Ipopt reads |bound| ≥ 1e19 as none
+constexpr double kToleranceFloor = 1e-13;  // on Ipopt's scaled KKT error (SetTolerance)
+
+// The scaled QP: x = (r / S, y / (S C)), objective ½ xᵀ Q x + ((q + s) / (S w̄))ᵀ x, rows
+// J x. Q and J do not depend on S.
+struct ScaledQp {
+  int unknowns = 0;
+  double delassus_scale = 1.0;   // w̄
+  SparseMatrix hessian;          // Q, symmetric, both triangles
+  SparseMatrix rows;             // J, row-major use through triplets
+  Triplets hessian_lower;
+  Triplets row_entries;
+  Eigen::VectorXd offset;        // q / w̄
+  Eigen::VectorXd cell_arms;     // c, per unknown (0 on tangential rows)
+  double cell_unit = 1.0;        // C = Σ|c_k|
+  std::vector<double> x_lower, x_upper, g_lower, g_upper;
+  int Variables() const { return static_cast<int>(x_lower.size()); }
+};
+
+void SetBounds(const ContactProblem& p, int k, ScaledQp& qp) {
+  const int m = p.UnknownsPerContact();
+  const ProblemContact& c = p.contacts[k];
+  const bool inert = DelassusDiagonal(p, k).isZero(0.0);  // no degrees of freedom: r = 0
+  const bool cone_rows = p.frictional && c.kind == ConstraintKind::kUnilateral && c.mu > 0.0;
+  qp.x_lower[k * m] = inert ? 0.0 : (c.kind == ConstraintKind::kBilateral || cone_rows ? -kInfinity : 0.0);
+  qp.x_upper[k * m] = inert ? 0.0 : kInfinity;
+  if (m == 2) {
+    qp.x_lower[k * m + 1] = cone_rows && !inert ? -kInfinity : 0.0;
+    qp.x_upper[k * m + 1] = cone_rows && !inert ? kInfinity : 0.0;
+  }
+}
+
+// Cone rows (two per frictional contact) and the cell row y − cᵀ r_n = 0.
+void AddRows(const ContactProblem& p, ScaledQp& qp) {
+  int row = 0;
+  for (int k = 0; k < p.NumContacts() && p.frictional; ++k) {
+    const ProblemContact& c = p.contacts[k];
+    if (c.kind != ConstraintKind::kUnilateral || c.mu <= 0.0 || DelassusDiagonal(p, k).isZero(0.0)) continue;
+    for (double sign : {-1.0, 1.0}) {
+      qp.row_entries.emplace_back(row, 2 * k, c.mu);
+      qp.row_entries.emplace_back(row, 2 * k + 1, sign);
+      qp.g_lower.push_back(0.0);
+      qp.g_upper.push_back(kInfinity);
+      ++row;
+    }
+  }
+  if (!p.cell) return;
+  qp.row_entries.emplace_back(row, qp.unknowns, 1.0);
+  for (int i = 0; i < qp.unknowns; ++i) {
+    if (qp.cell_arms[i] != 0.0) qp.row_entries.emplace_back(row, i, -qp.cell_arms[i] / qp.cell_unit);
+  }
+  qp.g_lower.push_back(0.0);
+  qp.g_upper.push_back(0.0);
+}
+
+ScaledQp MakeScaledQp(const ContactProblem& p) {
+  ScaledQp qp;
+  qp.unknowns = p.NumUnknowns();
+  const int n = qp.unknowns + (p.cell ? 1 : 0);
+  double sum_wnn = 0.0;
+  for (int k = 0; k < p.NumContacts(); ++k) sum_wnn += DelassusDiagonal(p, k)[0];
+  qp.delassus_scale = sum_wnn > 0.0 ? sum_wnn / p.NumContacts() : 1.0;
+
+  const SparseMatrix h = AssembleJacobian(p);
+  if (p.cell) {
+    qp.cell_arms = h.col(p.NumDofs() - 1);
+    qp.cell_unit = std::max(qp.cell_arms.lpNorm<1>(), 1e-300);
+  }
+  const int body_dofs = p.NumBodies() * p.DofsPerBody();  // the cell column, if any, is last
+  const SparseMatrix h_b = h.leftCols(body_dofs);           // the cell enters through y
+  const SparseMatrix w_b = h_b * InverseMassDiagonal(p).head(body_dofs).asDiagonal() * h_b.transpose();
+  Triplets q;
+  for (int col = 0; col < w_b.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(w_b, col); it; ++it) {
+      const double v = it.value() / qp.delassus_scale;
+      q.emplace_back(static_cast<int>(it.row()), col, v);
+      if (it.row() >= col) qp.hessian_lower.emplace_back(static_cast<int>(it.row()), col, v);
+    }
+  }
+  if (p.cell) {
+    const double v = p.cell->inv_mass * qp.cell_unit * qp.cell_unit / qp.delassus_scale;
+    q.emplace_back(qp.unknowns, qp.unknowns, v);
+    qp.hessian_lower.emplace_back(qp.unknowns, qp.unknowns, v);
+  }
+  qp.hessian.resize(n, n);
+  qp.hessian.setFromTriplets(q.begin(), q.end());
+  qp.offset = Eigen::VectorXd::Zero(n);
+  qp.offset.head(qp.unknowns) = DelassusOffset(p) / qp.delassus_scale;
+
+  qp.x_lower.assign(n, -kInfinity);
+  qp.x_upper.assign(n, kInfinity);
+  for (int k = 0; k < p.NumContacts(); ++k) SetBounds(p, k, qp);
+  AddRows(p, qp);
+  qp.rows.resize(static_cast<Eigen::Index>(qp.g_lower.size()), n);
+  qp.rows.setFromTriplets(qp.row_entries.begin(), qp.row_entries.end());
+  return qp;
+}
+
+class ConvexQpTnlp : public Ipopt::TNLP {
+ public:
+  ConvexQpTnlp(const ScaledQp& qp, Eigen::VectorXd linear, Eigen::VectorXd start)
+      : qp_(qp), linear_(std::move(linear)), start_(std::move(start)), solution_(start_) {}
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess, IndexStyleEnum& style) override {
+    n = qp_.Variables();
+    m = static_cast<Index>(qp_.g_lower.size());
+    nnz_jac = static_cast<Index>(qp_.row_entries.size());
+    nnz_hess = static_cast<Index>(qp_.hessian_lower.size());
+    style = C_STYLE;
+    return true;
+  }
+  bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl, Number* gu) override {
+    std::copy_n(qp_.x_lower.data(), n, xl);
+    std::copy_n(qp_.x_upper.data(), n, xu);
+    std::copy_n(qp_.g_lower.data(), m, gl);
+    std::copy_n(qp_.g_upper.data(), m, gu);
+    return true;
+  }
+  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+    std::copy_n(start_.data(), n, x);
+    return true;
+  }
+  bool eval_f(Index n, const Number* x, bool, Number& f) override {
+    const Eigen::Map<const Eigen::VectorXd> v(x, n);
+    f = 0.5 * v.dot(qp_.hessian * v) + linear_.dot(v);
+    return true;
+  }
+  bool eval_grad_f(Index n, const Number* x, bool, Number* g) override {
+    const Eigen::Map<const Eigen::VectorXd> v(x, n);
+    Eigen::Map<Eigen::VectorXd>(g, n) = qp_.hessian * v + linear_;
+    return true;
+  }
+  bool eval_g(Index n, const Number* x, bool, Index m, Number* g) override {
+    Eigen::Map<Eigen::VectorXd>(g, m) = qp_.rows * Eigen::Map<const Eigen::VectorXd>(x, n);
+    return true;
+  }
+  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* irow, Index* jcol, Number* values) override {
+    for (std::size_t e = 0; e < qp_.row_entries.size(); ++e) {
+      if (values == nullptr) {
+        irow[e] = qp_.row_entries[e].row();
+        jcol[e] = qp_.row_entries[e].col();
+      } else {
+        values[e] = qp_.row_entries[e].value();
+      }
+    }
+    return true;
+  }
+  bool eval_h(Index, const Number*, bool, Number obj_factor, Index, const Number*, bool, Index,
+              Index* irow, Index* jcol, Number* values) override {
+    // The rows are linear: only the objective has curvature.
+    for (std::size_t e = 0; e < qp_.hessian_lower.size(); ++e) {
+      if (values == nullptr) {
+        irow[e] = qp_.hessian_lower[e].row();
+        jcol[e] = qp_.hessian_lower[e].col();
+      } else {
+        values[e] = obj_factor * qp_.hessian_lower[e].value();
+      }
+    }
+    return true;
+  }
+  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*, const Number*, Index,
+                         const Number*, const Number*, Number, const Ipopt::IpoptData*,
+                         Ipopt::IpoptCalculatedQuantities*) override {
+    solution_ = Eigen::Map<const Eigen::VectorXd>(x, n);
+  }
+  const Eigen::VectorXd& solution() const { return solution_; }
+
+ private:
+  const ScaledQp& qp_;
+  Eigen::VectorXd linear_;
+  Eigen::VectorXd start_;
+  Eigen::VectorXd solution_;
+};
+
+const char* StatusName(Ipopt::ApplicationReturnStatus s) {
+  switch (s) {
+    case Ipopt::Solve_Succeeded: return "Solve_Succeeded";
+    case Ipopt::Solved_To_Acceptable_Level: return "Solved_To_Acceptable_Level";
+    case Ipopt::Infeasible_Problem_Detected: return "Infeasible_Problem_Detected";
+    case Ipopt::Search_Direction_Becomes_Too_Small: return "Search_Direction_Becomes_Too_Small";
+    case Ipopt::Diverging_Iterates: return "Diverging_Iterates";
+    case Ipopt::User_Requested_Stop: return "User_Requested_Stop";
+    case Ipopt::Feasible_Point_Found: return "Feasible_Point_Found";
+    case Ipopt::Maximum_Iterations_Exceeded: return "Maximum_Iterations_Exceeded";
+    case Ipopt::Restoration_Failed: return "Restoration_Failed";
+    case Ipopt::Error_In_Step_Computation: return "Error_In_Step_Computation";
+    case Ipopt::Maximum_CpuTime_Exceeded: return "Maximum_CpuTime_Exceeded";
+    case Ipopt::Not_Enough_Degrees_Of_Freedom: return "Not_Enough_Degrees_Of_Freedom";
+    case Ipopt::Invalid_Problem_Definition: return "Invalid_Problem_Definition";
+    case Ipopt::Invalid_Option: return "Invalid_Option";
+    case Ipopt::Invalid_Number_Detected: return "Invalid_Number_Detected";
+    case Ipopt::Unrecoverable_Exception: return "Unrecoverable_Exception";
+    case Ipopt::NonIpopt_Exception_Thrown: return "NonIpopt_Exception_Thrown";
+    case Ipopt::Insufficient_Memory: return "Insufficient_Memory";
+    case Ipopt::Internal_Error: return "Internal_Error";
+  }
+  return "unknown status";
+}
+
+class IpoptStep final : public ConvexStepSolver {
+ public:
+  IpoptStep(const ContactProblem& p, const SolverOptions& o)
+      : p_(p), qp_(MakeScaledQp(p)), app_(IpoptApplicationFactory()) {
+    Ipopt::OptionsList& options = *app_->Options();
+    options.SetIntegerValue("print_level", 0);
+    options.SetStringValue("sb", "yes");
+    options.SetStringValue("hessian_constant", "yes");
+    options.SetStringValue("jac_c_constant", "yes");
+    options.SetStringValue("jac_d_constant", "yes");
+    options.SetStringValue("mehrotra_algorithm", "yes");
+    options.SetIntegerValue("max_iter", o.ipopt_max_iterations);
+    // "": no ipopt.opt from the working directory; results must not depend on where unjam runs.
+    initialized_ = app_->Initialize("") == Ipopt::Solve_Succeeded;
+  }
+
+  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start, double tolerance) override {
+    ConvexStep out;
+    out.impulses = start;
+    if (!initialized_) {
+      out.library_status = "Ipopt could not be initialised";
+      return out;
+    }
+    SetTolerance(tolerance);
+    const double scale = ComputeResidual(p_, start).scale;  // S
+    Eigen::VectorXd linear = qp_.offset / scale;
+    linear.head(qp_.unknowns) += shift / (scale * qp_.delassus_scale);
+    Ipopt::SmartPtr<ConvexQpTnlp> tnlp = new ConvexQpTnlp(qp_, linear, ScaledStart(start, scale));
+    const Ipopt::ApplicationReturnStatus status = app_->OptimizeTNLP(tnlp);
+    if (Ipopt::IsValid(app_->Statistics())) out.iterations = app_->Statistics()->IterationCount();
+    out.impulses = scale * tnlp->solution().head(qp_.unknowns);
+    out.solved = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
+    out.failure = status == Ipopt::Maximum_Iterations_Exceeded || status == Ipopt::Maximum_CpuTime_Exceeded
+                      ? SolveStatus::kIterationLimit
+                      : SolveStatus::kNumericalFailure;
+    out.library_status = std::string("Ipopt ") + StatusName(status);
+    return out;
+  }
+
+  std::string IterationName() const override { return "Ipopt iterations"; }
+
+ private:
+  // Ipopt's own tolerances on the scaled problem, not below 1e-13: its KKT error stalls
+  // near 5e-14 on rounding (measured), and asking for less runs it to its iteration limit.
+  // Complementarity needs far more, and costs nothing: the barrier leaves an impulse
+  // r_n ≈ (r_n ũ_n)/ũ_n on an open contact, large where the gap is nearly closed (small
+  // ũ_n), which moves the neighbours once zeroed; and a degenerate contact (closed, no
+  // force: r_n = ũ_n = 0 at the solution) keeps both near √(r_n ũ_n). Measured from cold on
+  // the bundled N = 500 packings, complementarity target (× the inner tolerance) against
+  // the residual reached: 1e-6 leaves 2.5e-12 on the frictional one (tolerance 1e-12,
+  // stalled) and 8e-10 on the frictionless one from its stored forces; 1e-12 reaches
+  // 1.2e-15 on both, in as many Ipopt iterations. The barrier floor and the bound
+  // relaxation (default 1e-8) follow, so that neither limits the accuracy.
+  void SetTolerance(double tolerance) {
+    Ipopt::OptionsList& options = *app_->Options();
+    const double kkt = std::max(tolerance, kToleranceFloor);
+    options.SetNumericValue("tol", kkt);
+    options.SetNumericValue("dual_inf_tol", kkt);
+    options.SetNumericValue("constr_viol_tol", kkt);
+    options.SetNumericValue("acceptable_tol", 10.0 * kkt);
+    options.SetNumericValue("compl_inf_tol", 1e-12 * tolerance);
+    options.SetNumericValue("mu_min", std::min(1e-11, 1e-14 * tolerance));
+    options.SetNumericValue("bound_relax_factor", std::min(1e-8, 0.01 * tolerance));
+  }
+
+  Eigen::VectorXd ScaledStart(const Eigen::VectorXd& impulses, double scale) const {
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(qp_.Variables());
+    x.head(qp_.unknowns) = impulses / scale;
+    if (p_.cell) x[qp_.unknowns] = qp_.cell_arms.dot(x.head(qp_.unknowns)) / qp_.cell_unit;  // y = cᵀ r_n
+    return x;
+  }
+
+  const ContactProblem& p_;
+  const ScaledQp qp_;
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
+  bool initialized_ = false;
+};
+
+}  // namespace
+
+SolveResult IpoptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(options);
+  // MUMPS is not thread-safe, and Ipopt 3.11 does not guard it (3.14 added a mutex), while
+  // perturb solves in parallel threads: one Ipopt solve at a time in the process, from the
+  // creation of the application (MUMPS instances live in it) to its destruction.
+  static std::mutex mumps;
+  const std::lock_guard<std::mutex> lock(mumps);
+  IpoptStep step(p, options);
+  return SolveByDeSaxceFixedPoint(p, options, Name(), step);
+}
+
+}  // namespace unjam

@@ -1,0 +1,15 @@
+// The convex step as a sparse quadratic program solved by Ipopt, inside the De Saxcé fixed
+// point ("ipopt"). See ipopt_solver.cpp.
+#pragma once
+
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+class IpoptSolver final : public ContactSolver {
+ public:
+  std::string Name() const override { return "ipopt"; }
+  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
+};
+
+}  // namespace unjam

@@ -1,0 +1,15 @@
+// The convex step as a bound-constrained QP on cone edges, solved matrix-free by NLopt,
+// inside the De Saxcé fixed point ("nlopt"). See nlopt_solver.cpp.
+#pragma once
+
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+class NloptSolver final : public ContactSolver {
+ public:
+  std::string Name() const override { return "nlopt"; }
+  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
+};
+
+}  // namespace unjam
