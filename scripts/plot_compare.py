@@ -17,7 +17,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 run = sys.argv[1]
-rows = list(csv.DictReader(open(f"{run}/compare.csv")))
+everything = list(csv.DictReader(open(f"{run}/compare.csv")))
+# A backend that refuses a problem's form (status unsupported) has no curve there; in the
+# profiles it counts as not solving the problem.
+rows = [r for r in everything if r["status"] != "unsupported"]
 if not rows:
     raise SystemExit(f"{run}/compare.csv: no rows")
 problems = list(dict.fromkeys(r["problem"] for r in rows))
@@ -44,7 +47,8 @@ for ax, problem in zip(axes.flat, problems):
     ax.set_xscale("log"); ax.set_yscale("log")
     ax.set_xlabel("wall time (s)"); ax.set_ylabel("unjam residual reached")
     ax.set_title(problem, fontsize=9); ax.grid(True, which="major", alpha=0.3)
-    ax.legend(fontsize=8)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
 for ax in list(axes.flat)[len(problems):]:
     ax.axis("off")
 fig.suptitle("work-precision (hollow: tolerance not reached)", fontsize=10)
@@ -54,7 +58,7 @@ fig.tight_layout(); fig.savefig(f"{run}/work-precision.png", dpi=110)
 fig, axes = plt.subplots(1, len(tolerances), figsize=(4.2 * len(tolerances), 3.6), squeeze=False)
 for ax, tol in zip(axes.flat, tolerances):
     cost = defaultdict(dict)
-    for r in rows:
+    for r in everything:
         if float(r["tolerance"]) == tol:
             cost[r["problem"]][r["backend"]] = float(r["seconds"]) if r["converged"] == "true" else math.inf
     ratios = {b: [] for b in backends}
