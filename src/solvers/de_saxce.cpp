@@ -34,40 +34,102 @@
 #include <cstdio>
 #include <limits>
 
+#include "unjam/problem/kinematics.hpp"
 #include "unjam/solvers/residual.hpp"
 
 namespace unjam {
 
+ContactLayout LayoutOf(const ContactProblem& p) {
+  ContactLayout layout;
+  layout.per_contact = p.UnknownsPerContact();
+  layout.frictional = p.frictional;
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    layout.laws.push_back({p.contacts[k].mu, p.contacts[k].kind});
+    layout.diagonal.push_back(DelassusDiagonal(p, k));
+  }
+  return layout;
+}
+
+ContactLayout LayoutOf(const DelassusProblem& p) {
+  ContactLayout layout;
+  layout.per_contact = 2;
+  layout.frictional = true;
+  layout.laws = p.laws;
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    layout.diagonal.emplace_back(p.w.coeff(2 * k, 2 * k), p.w.coeff(2 * k + 1, 2 * k + 1));
+  }
+  return layout;
+}
+
+std::string AsymmetryOf(const DelassusProblem& p) {
+  const Eigen::SparseMatrix<double> transpose = p.w.transpose();
+  const Eigen::SparseMatrix<double> difference = p.w - transpose;
+  double largest = 0.0;
+  for (int col = 0; col < p.w.outerSize(); ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(p.w, col); it; ++it) largest = std::max(largest, std::abs(it.value()));
+  }
+  double worst = 0.0;
+  for (int col = 0; col < difference.outerSize(); ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(difference, col); it; ++it) worst = std::max(worst, std::abs(it.value()));
+  }
+  if (worst <= kSymmetryTolerance * largest) return "";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "W is not symmetric (max |W - W^T| = %.3g, %.3g of max |W|): ", worst,
+                worst / largest);
+  return std::string(buf) +
+         "the De Saxcé fixed point minimises 1/2 r^T W r + (q + s)^T r, which needs a symmetric W (docs/backends.md)";
+}
+
+SolveResult Unsupported(const DelassusProblem& p, const std::string& backend, const std::string& why) {
+  SolveResult result;
+  result.impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
+  result.report.backend = backend;
+  result.report.status = SolveStatus::kUnsupported;
+  result.report.residual = ComputeResidual(p, result.impulses).residual;
+  result.report.message = "backend '" + backend + "' refuses this problem: " + why;
+  return result;
+}
+
 namespace {
 
-bool IsFrictionalUnilateral(const ContactProblem& p, int k) {
-  return p.frictional && p.contacts[k].kind == ConstraintKind::kUnilateral;
+template <class Problem>
+std::vector<double> Weights(const Problem& p) {
+  std::vector<double> rho(p.NumContacts());
+  for (int k = 0; k < p.NumContacts(); ++k) rho[k] = ResidualWeight(p, k);
+  return rho;
+}
+
+bool IsFrictionalUnilateral(const ContactLayout& layout, int k) {
+  return layout.frictional && layout.laws[k].kind == ConstraintKind::kUnilateral;
 }
 
 }  // namespace
 
-ConvexLaw::ConvexLaw(const ContactProblem& p) : p_(p), rho_(p.NumContacts()) {
-  for (int k = 0; k < p.NumContacts(); ++k) rho_[k] = ResidualWeight(p, k);
+ConvexLaw::ConvexLaw(const ContactProblem& p) : layout_(LayoutOf(p)), rho_(Weights(p)) {
+  fallback_scale_ = ComputeResidual(p, Eigen::VectorXd::Zero(p.NumUnknowns())).scale;
+}
+
+ConvexLaw::ConvexLaw(const DelassusProblem& p) : layout_(LayoutOf(p)), rho_(Weights(p)) {
   fallback_scale_ = ComputeResidual(p, Eigen::VectorXd::Zero(p.NumUnknowns())).scale;
 }
 
 Eigen::Vector2d ConvexLaw::Local(const Eigen::VectorXd& x, int k) const {
-  const int m = p_.UnknownsPerContact();
+  const int m = layout_.per_contact;
   return Eigen::Vector2d(x[k * m], m == 2 ? x[k * m + 1] : 0.0);
 }
 
 Eigen::VectorXd ConvexLaw::Shift(const Eigen::VectorXd& velocity) const {
-  Eigen::VectorXd s = Eigen::VectorXd::Zero(p_.NumUnknowns());
-  for (int k = 0; k < p_.NumContacts(); ++k) {
-    if (IsFrictionalUnilateral(p_, k)) s[2 * k] = p_.contacts[k].mu * std::abs(velocity[2 * k + 1]);
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(layout_.NumUnknowns());
+  for (int k = 0; k < layout_.NumContacts(); ++k) {
+    if (IsFrictionalUnilateral(layout_, k)) s[2 * k] = layout_.laws[k].mu * std::abs(velocity[2 * k + 1]);
   }
   return s;
 }
 
 double ConvexLaw::Scale(const Eigen::VectorXd& impulses) const {
   double sum = 0.0;
-  for (int k = 0; k < p_.NumContacts(); ++k) sum += std::abs(Local(impulses, k)[0]);
-  return sum > 0.0 ? sum / p_.NumContacts() : fallback_scale_;
+  for (int k = 0; k < layout_.NumContacts(); ++k) sum += std::abs(Local(impulses, k)[0]);
+  return sum > 0.0 ? sum / layout_.NumContacts() : fallback_scale_;
 }
 
 // r_k − ρ_k (ũ_k + s_k): the point the natural map projects.
@@ -78,18 +140,18 @@ Eigen::Vector2d ConvexLaw::MapArgument(const Eigen::VectorXd& impulses, const Ei
 
 double ConvexLaw::Residual(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
                            const Eigen::VectorXd& shift) const {
-  if (p_.NumContacts() == 0) return 0.0;
+  if (layout_.NumContacts() == 0) return 0.0;
   double worst = 0.0;
-  for (int k = 0; k < p_.NumContacts(); ++k) {
+  for (int k = 0; k < layout_.NumContacts(); ++k) {
     const Eigen::Vector2d r = Local(impulses, k);
     const Eigen::Vector2d z = MapArgument(impulses, velocity, shift, k);
     double e = 0.0;
-    if (p_.contacts[k].kind == ConstraintKind::kBilateral) {
+    if (layout_.laws[k].kind == ConstraintKind::kBilateral) {
       e = std::hypot(r[0] - z[0], r[1]);  // ρ ũ_n, and r_t = 0
-    } else if (!p_.frictional) {
+    } else if (!layout_.frictional) {
       e = std::abs(r[0] - std::max(0.0, z[0]));
     } else {
-      e = (r - ProjectOnCone(z, p_.contacts[k].mu)).norm();
+      e = (r - ProjectOnCone(z, layout_.laws[k].mu)).norm();
     }
     worst = std::max(worst, e);
   }
@@ -99,7 +161,7 @@ double ConvexLaw::Residual(const Eigen::VectorXd& impulses, const Eigen::VectorX
 double ConvexLaw::ShiftChange(const Eigen::VectorXd& impulses, const Eigen::VectorXd& before,
                               const Eigen::VectorXd& after) const {
   double worst = 0.0;
-  for (int k = 0; k < p_.NumContacts(); ++k) {
+  for (int k = 0; k < layout_.NumContacts(); ++k) {
     worst = std::max(worst, rho_[k] * std::abs(Local(after, k)[0] - Local(before, k)[0]));
   }
   return worst / Scale(impulses);
@@ -108,11 +170,11 @@ double ConvexLaw::ShiftChange(const Eigen::VectorXd& impulses, const Eigen::Vect
 Eigen::VectorXd ConvexLaw::ZeroOpenContacts(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
                                             const Eigen::VectorXd& shift) const {
   Eigen::VectorXd out = impulses;
-  const int m = p_.UnknownsPerContact();
-  for (int k = 0; k < p_.NumContacts(); ++k) {
-    if (p_.contacts[k].kind == ConstraintKind::kBilateral) continue;
+  const int m = layout_.per_contact;
+  for (int k = 0; k < layout_.NumContacts(); ++k) {
+    if (layout_.laws[k].kind == ConstraintKind::kBilateral) continue;
     const Eigen::Vector2d z = MapArgument(impulses, velocity, shift, k);
-    const bool open = p_.frictional ? ProjectOnCone(z, p_.contacts[k].mu).isZero(0.0) : z[0] <= 0.0;
+    const bool open = layout_.frictional ? ProjectOnCone(z, layout_.laws[k].mu).isZero(0.0) : z[0] <= 0.0;
     if (open) out.segment(k * m, m).setZero();
   }
   return out;
@@ -125,6 +187,10 @@ constexpr double kShiftFollow = 0.1;     // inner tolerance × the last move of 
 constexpr double kLoosestInner = 1e-3;   // looser convex solves are wasted
 constexpr int kStallIterations = 10;     // outer iterations without halving the residual
 
+// ũ = W r + q of either form.
+Eigen::VectorXd Posed(const ContactProblem& p, const Eigen::VectorXd& r) { return PosedContactVelocity(p, r); }
+Eigen::VectorXd Posed(const DelassusProblem& p, const Eigen::VectorXd& r) { return p.w * r + p.q; }
+
 struct Iterate {
   Eigen::VectorXd impulses;
   double residual = 0.0;
@@ -135,17 +201,19 @@ double InnerTolerance(const SolverOptions& o, double shift_change) {
 }
 
 // The step's impulses, with the open contacts zeroed if that lowers the convex residual.
-Iterate Polished(const ContactProblem& p, const ConvexLaw& law, const Eigen::VectorXd& impulses,
+template <class Problem>
+Iterate Polished(const Problem& p, const ConvexLaw& law, const Eigen::VectorXd& impulses,
                  const Eigen::VectorXd& shift) {
-  const Eigen::VectorXd u = PosedContactVelocity(p, impulses);
+  const Eigen::VectorXd u = Posed(p, impulses);
   const Eigen::VectorXd zeroed = law.ZeroOpenContacts(impulses, u, shift);
-  const Eigen::VectorXd u_zeroed = PosedContactVelocity(p, zeroed);
+  const Eigen::VectorXd u_zeroed = Posed(p, zeroed);
   const bool better = law.Residual(zeroed, u_zeroed, shift) <= law.Residual(impulses, u, shift);
   const Eigen::VectorXd& r = better ? zeroed : impulses;
   return {r, ComputeResidual(p, r).residual};
 }
 
-Eigen::VectorXd InitialImpulses(const ContactProblem& p) {
+template <class Problem>
+Eigen::VectorXd InitialImpulses(const Problem& p) {
   if (p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite()) return p.initial_guess;
   return Eigen::VectorXd::Zero(p.NumUnknowns());
 }
@@ -162,7 +230,8 @@ std::string Number(double x) {
   return buf;
 }
 
-SolveResult Finish(const ContactProblem& p, const Iterate& chosen, const Outcome& outcome, int solves,
+template <class Problem>
+SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outcome, int solves,
                    int library_iterations, const SolverOptions& o, const std::string& backend,
                    const ConvexStepSolver& step, std::chrono::steady_clock::time_point start) {
   SolveResult result;
@@ -190,7 +259,8 @@ SolveResult Finish(const ContactProblem& p, const Iterate& chosen, const Outcome
 
 // One convex solve without shift: the relaxed model's answer is returned whatever its
 // residual against the exact law.
-SolveResult SolveRelaxation(const ContactProblem& p, const SolverOptions& o, const std::string& backend,
+template <class Problem>
+SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std::string& backend,
                             ConvexStepSolver& step) {
   const auto start = std::chrono::steady_clock::now();
   const ConvexLaw law(p);
@@ -201,7 +271,7 @@ SolveResult SolveRelaxation(const ContactProblem& p, const SolverOptions& o, con
     return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o, backend, step, start);
   }
   const Iterate solution = Polished(p, law, s.impulses, zero);
-  const double own = law.Residual(solution.impulses, PosedContactVelocity(p, solution.impulses), zero);
+  const double own = law.Residual(solution.impulses, Posed(p, solution.impulses), zero);
   Outcome outcome;
   if (!s.solved) {
     outcome = {s.failure, s.library_status};
@@ -216,10 +286,8 @@ SolveResult SolveRelaxation(const ContactProblem& p, const SolverOptions& o, con
   return Finish(p, solution, outcome, 1, s.iterations, o, backend, step, start);
 }
 
-}  // namespace
-
-SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOptions& o,
-                                     const std::string& backend, ConvexStepSolver& step) {
+template <class Problem>
+SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::string& backend, ConvexStepSolver& step) {
   Validate(o);
   if (o.convex_relaxation) return SolveRelaxation(p, o, backend, step);
   const auto start = std::chrono::steady_clock::now();
@@ -228,7 +296,7 @@ SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOption
   best.residual = ComputeResidual(p, best.impulses).residual;
   Eigen::VectorXd r = best.impulses;
   const bool warm = !r.isZero(0.0);  // the first shift: see the top of the file
-  Eigen::VectorXd shift = warm ? law.Shift(PosedContactVelocity(p, r)) : Eigen::VectorXd::Zero(p.NumUnknowns());
+  Eigen::VectorXd shift = warm ? law.Shift(Posed(p, r)) : Eigen::VectorXd::Zero(p.NumUnknowns());
   Eigen::VectorXd previous_shift = Eigen::VectorXd::Zero(p.NumUnknowns());
 
   Outcome outcome{SolveStatus::kIterationLimit, "outer iteration limit of the De Saxcé fixed point"};
@@ -254,7 +322,7 @@ SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOption
       break;
     }
     previous_shift = shift;
-    shift = law.Shift(PosedContactVelocity(p, r));
+    shift = law.Shift(Posed(p, r));
     // The same convex problem again, as tight as before, after a solve that did not help:
     // the library's accuracy, not the shift, is the limit.
     const double tightest = kInnerSafety * o.tolerance;
@@ -274,6 +342,18 @@ SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOption
     }
   }
   return Finish(p, best, outcome, solves, library_iterations, o, backend, step, start);
+}
+
+}  // namespace
+
+SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOptions& o,
+                                     const std::string& backend, ConvexStepSolver& step) {
+  return FixedPoint(p, o, backend, step);
+}
+
+SolveResult SolveByDeSaxceFixedPoint(const DelassusProblem& p, const SolverOptions& o,
+                                     const std::string& backend, ConvexStepSolver& step) {
+  return FixedPoint(p, o, backend, step);
 }
 
 }  // namespace unjam

@@ -14,9 +14,38 @@
 
 #include <Eigen/Core>
 
+#include "unjam/problem/delassus_problem.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 
 namespace unjam {
+
+// What the convex step needs to know of each contact, whichever form the problem comes in
+// (contact_problem.hpp or delassus_problem.hpp). A Delassus-form problem is frictional with
+// two unknowns per contact (μ may be 0); `diagonal` is (W_nn, W_tt) of the contact, zero for
+// a contact without degrees of freedom (its impulse is held at 0).
+struct ContactLayout {
+  int per_contact = 1;                   // unknowns per contact
+  bool frictional = false;
+  std::vector<ContactLaw> laws;          // per contact
+  std::vector<Eigen::Vector2d> diagonal; // per contact
+  int NumContacts() const { return static_cast<int>(laws.size()); }
+  int NumUnknowns() const { return per_contact * NumContacts(); }
+  // A frictional unilateral contact with μ > 0 and degrees of freedom: its cone is posed.
+  bool ConeRows(int k) const {
+    return frictional && laws[k].kind == ConstraintKind::kUnilateral && laws[k].mu > 0.0 && !Inert(k);
+  }
+  bool Inert(int k) const { return diagonal[k].isZero(0.0); }
+};
+ContactLayout LayoutOf(const ContactProblem& problem);
+ContactLayout LayoutOf(const DelassusProblem& problem);
+
+// The convex step is a minimisation only for a symmetric W: for a Delassus-form problem,
+// an empty string if W equals Wᵀ to a relative tolerance (kSymmetryTolerance × max |W_ij|),
+// otherwise why it is refused.
+constexpr double kSymmetryTolerance = 1e-10;
+std::string AsymmetryOf(const DelassusProblem& problem);
+// The refusal of a backend that cannot pose `problem` (kUnsupported, zero impulses).
+SolveResult Unsupported(const DelassusProblem& problem, const std::string& backend, const std::string& why);
 
 // The convex step's law at a frozen shift: the fixed point's measures and helpers.
 // Vectors are laid out as the impulses, UnknownsPerContact() per contact; `velocity` is the
@@ -24,6 +53,7 @@ namespace unjam {
 class ConvexLaw {
  public:
   explicit ConvexLaw(const ContactProblem& problem);
+  explicit ConvexLaw(const DelassusProblem& problem);
 
   // s_k = (μ_k |u_t,k|, 0) for frictional unilateral contacts, 0 elsewhere.
   Eigen::VectorXd Shift(const Eigen::VectorXd& velocity) const;
@@ -52,7 +82,7 @@ class ConvexLaw {
                               const Eigen::VectorXd& shift, int k) const;
   double Scale(const Eigen::VectorXd& impulses) const;
 
-  const ContactProblem& p_;
+  ContactLayout layout_;
   std::vector<double> rho_;      // ResidualWeight: 1 / W_nn
   double fallback_scale_ = 1.0;  // ComputeResidual's scale when every impulse vanishes
 };
@@ -79,8 +109,11 @@ class ConvexStepSolver {
 
 // The fixed point on the shift, or the convex relaxation alone (options.convex_relaxation).
 // report.iterations counts convex solves; the true residual of the returned impulses (the
-// best seen) is always in report.residual.
+// best seen) is always in report.residual. Both forms: the posed velocity is
+// PosedContactVelocity (body form) or W r + q (Delassus form), the residual ComputeResidual.
 SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& problem, const SolverOptions& options,
+                                     const std::string& backend, ConvexStepSolver& step);
+SolveResult SolveByDeSaxceFixedPoint(const DelassusProblem& problem, const SolverOptions& options,
                                      const std::string& backend, ConvexStepSolver& step);
 
 }  // namespace unjam

@@ -14,6 +14,11 @@
 // equality row y = cᵀ r_n, the objective ½ rᵀ W_b r + ½ m_λ y² + (q + s)ᵀ r keeps the Hessian
 // as sparse as the contact network and the Jacobian gains one row of N_c entries.
 //
+// Delassus form (SolveDelassus): Q is W itself (symmetrised, ½(W + Wᵀ), after checking that
+// W is symmetric to a relative 1e-10: de_saxce.hpp, AsymmetryOf), the offset q, no cell
+// variable; bounds and cone rows as above with every contact frictional (μ = 0: r_t = 0),
+// and a contact whose diagonal block of W vanishes held at r = 0.
+//
 // Scaling. Impulses are divided by an impulse scale S (the residual's scale of each solve's
 // start) and the objective by S² w̄ (w̄ the mean W_nn), so that a gradient entry is an
 // impulse relative to S, like the unjam residual, and Ipopt's tolerances mean roughly the
@@ -66,34 +71,33 @@ struct ScaledQp {
   int Variables() const { return static_cast<int>(x_lower.size()); }
 };
 
-void SetBounds(const ContactProblem& p, int k, ScaledQp& qp) {
-  const int m = p.UnknownsPerContact();
-  const ProblemContact& c = p.contacts[k];
-  const bool inert = DelassusDiagonal(p, k).isZero(0.0);  // no degrees of freedom: r = 0
-  const bool cone_rows = p.frictional && c.kind == ConstraintKind::kUnilateral && c.mu > 0.0;
+void SetBounds(const ContactLayout& p, int k, ScaledQp& qp) {
+  const int m = p.per_contact;
+  const ContactLaw& c = p.laws[k];
+  const bool inert = p.Inert(k);  // no degrees of freedom: r = 0
+  const bool cone_rows = p.ConeRows(k);
   qp.x_lower[k * m] = inert ? 0.0 : (c.kind == ConstraintKind::kBilateral || cone_rows ? -kInfinity : 0.0);
   qp.x_upper[k * m] = inert ? 0.0 : kInfinity;
   if (m == 2) {
-    qp.x_lower[k * m + 1] = cone_rows && !inert ? -kInfinity : 0.0;
-    qp.x_upper[k * m + 1] = cone_rows && !inert ? kInfinity : 0.0;
+    qp.x_lower[k * m + 1] = cone_rows ? -kInfinity : 0.0;
+    qp.x_upper[k * m + 1] = cone_rows ? kInfinity : 0.0;
   }
 }
 
 // Cone rows (two per frictional contact) and the cell row y − cᵀ r_n = 0.
-void AddRows(const ContactProblem& p, ScaledQp& qp) {
+void AddRows(const ContactLayout& p, bool cell, ScaledQp& qp) {
   int row = 0;
-  for (int k = 0; k < p.NumContacts() && p.frictional; ++k) {
-    const ProblemContact& c = p.contacts[k];
-    if (c.kind != ConstraintKind::kUnilateral || c.mu <= 0.0 || DelassusDiagonal(p, k).isZero(0.0)) continue;
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    if (!p.ConeRows(k)) continue;
     for (double sign : {-1.0, 1.0}) {
-      qp.row_entries.emplace_back(row, 2 * k, c.mu);
+      qp.row_entries.emplace_back(row, 2 * k, p.laws[k].mu);
       qp.row_entries.emplace_back(row, 2 * k + 1, sign);
       qp.g_lower.push_back(0.0);
       qp.g_upper.push_back(kInfinity);
       ++row;
     }
   }
-  if (!p.cell) return;
+  if (!cell) return;
   qp.row_entries.emplace_back(row, qp.unknowns, 1.0);
   for (int i = 0; i < qp.unknowns; ++i) {
     if (qp.cell_arms[i] != 0.0) qp.row_entries.emplace_back(row, i, -qp.cell_arms[i] / qp.cell_unit);
@@ -102,13 +106,30 @@ void AddRows(const ContactProblem& p, ScaledQp& qp) {
   qp.g_upper.push_back(0.0);
 }
 
+// w̄, the mean W_nn (1 without contacts or normal curvature).
+double DelassusScale(const ContactLayout& layout) {
+  double sum_wnn = 0.0;
+  for (int k = 0; k < layout.NumContacts(); ++k) sum_wnn += layout.diagonal[k][0];
+  return sum_wnn > 0.0 ? sum_wnn / layout.NumContacts() : 1.0;
+}
+
+// The bounds and rows, once Q and the offset are in place.
+void Constrain(const ContactLayout& layout, bool cell, ScaledQp& qp) {
+  const int n = static_cast<int>(qp.hessian.rows());
+  qp.x_lower.assign(n, -kInfinity);
+  qp.x_upper.assign(n, kInfinity);
+  for (int k = 0; k < layout.NumContacts(); ++k) SetBounds(layout, k, qp);
+  AddRows(layout, cell, qp);
+  qp.rows.resize(static_cast<Eigen::Index>(qp.g_lower.size()), n);
+  qp.rows.setFromTriplets(qp.row_entries.begin(), qp.row_entries.end());
+}
+
 ScaledQp MakeScaledQp(const ContactProblem& p) {
+  const ContactLayout layout = LayoutOf(p);
   ScaledQp qp;
   qp.unknowns = p.NumUnknowns();
   const int n = qp.unknowns + (p.cell ? 1 : 0);
-  double sum_wnn = 0.0;
-  for (int k = 0; k < p.NumContacts(); ++k) sum_wnn += DelassusDiagonal(p, k)[0];
-  qp.delassus_scale = sum_wnn > 0.0 ? sum_wnn / p.NumContacts() : 1.0;
+  qp.delassus_scale = DelassusScale(layout);
 
   const SparseMatrix h = AssembleJacobian(p);
   if (p.cell) {
@@ -135,13 +156,31 @@ ScaledQp MakeScaledQp(const ContactProblem& p) {
   qp.hessian.setFromTriplets(q.begin(), q.end());
   qp.offset = Eigen::VectorXd::Zero(n);
   qp.offset.head(qp.unknowns) = DelassusOffset(p) / qp.delassus_scale;
+  Constrain(layout, static_cast<bool>(p.cell), qp);
+  return qp;
+}
 
-  qp.x_lower.assign(n, -kInfinity);
-  qp.x_upper.assign(n, kInfinity);
-  for (int k = 0; k < p.NumContacts(); ++k) SetBounds(p, k, qp);
-  AddRows(p, qp);
-  qp.rows.resize(static_cast<Eigen::Index>(qp.g_lower.size()), n);
-  qp.rows.setFromTriplets(qp.row_entries.begin(), qp.row_entries.end());
+// The Delassus form: Q = ½(W + Wᵀ) / w̄ (W symmetric to kSymmetryTolerance, AsymmetryOf),
+// offset q / w̄, no cell variable.
+ScaledQp MakeScaledQp(const DelassusProblem& p) {
+  const ContactLayout layout = LayoutOf(p);
+  ScaledQp qp;
+  qp.unknowns = p.NumUnknowns();
+  qp.delassus_scale = DelassusScale(layout);
+  const SparseMatrix w = p.w;
+  const SparseMatrix wt = w.transpose();
+  const SparseMatrix symmetric = 0.5 * (w + wt) / qp.delassus_scale;
+  Triplets q;
+  for (int col = 0; col < symmetric.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(symmetric, col); it; ++it) {
+      q.emplace_back(static_cast<int>(it.row()), col, it.value());
+      if (it.row() >= col) qp.hessian_lower.emplace_back(static_cast<int>(it.row()), col, it.value());
+    }
+  }
+  qp.hessian.resize(qp.unknowns, qp.unknowns);
+  qp.hessian.setFromTriplets(q.begin(), q.end());
+  qp.offset = p.q / qp.delassus_scale;
+  Constrain(layout, false, qp);
   return qp;
 }
 
@@ -246,9 +285,10 @@ const char* StatusName(Ipopt::ApplicationReturnStatus s) {
   return "unknown status";
 }
 
+template <class Problem>
 class IpoptStep final : public ConvexStepSolver {
  public:
-  IpoptStep(const ContactProblem& p, const SolverOptions& o)
+  IpoptStep(const Problem& p, const SolverOptions& o)
       : p_(p), qp_(MakeScaledQp(p)), app_(IpoptApplicationFactory()) {
     Ipopt::OptionsList& options = *app_->Options();
     options.SetIntegerValue("print_level", 0);
@@ -314,15 +354,21 @@ class IpoptStep final : public ConvexStepSolver {
   Eigen::VectorXd ScaledStart(const Eigen::VectorXd& impulses, double scale) const {
     Eigen::VectorXd x = Eigen::VectorXd::Zero(qp_.Variables());
     x.head(qp_.unknowns) = impulses / scale;
-    if (p_.cell) x[qp_.unknowns] = qp_.cell_arms.dot(x.head(qp_.unknowns)) / qp_.cell_unit;  // y = cᵀ r_n
+    if (qp_.Variables() > qp_.unknowns) x[qp_.unknowns] = qp_.cell_arms.dot(x.head(qp_.unknowns)) / qp_.cell_unit;  // y = cᵀ r_n
     return x;
   }
 
-  const ContactProblem& p_;
+  const Problem& p_;
   const ScaledQp qp_;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
   bool initialized_ = false;
 };
+
+// See IpoptSolver::Solve.
+std::mutex& MumpsLock() {
+  static std::mutex mumps;
+  return mumps;
+}
 
 }  // namespace
 
@@ -331,9 +377,18 @@ SolveResult IpoptSolver::Solve(const ContactProblem& p, const SolverOptions& opt
   // MUMPS is not thread-safe, and Ipopt 3.11 does not guard it (3.14 added a mutex), while
   // perturb solves in parallel threads: one Ipopt solve at a time in the process, from the
   // creation of the application (MUMPS instances live in it) to its destruction.
-  static std::mutex mumps;
-  const std::lock_guard<std::mutex> lock(mumps);
-  IpoptStep step(p, options);
+  const std::lock_guard<std::mutex> lock(MumpsLock());
+  IpoptStep<ContactProblem> step(p, options);
+  return SolveByDeSaxceFixedPoint(p, options, Name(), step);
+}
+
+SolveResult IpoptSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
+  Validate(p);
+  Validate(options);
+  const std::string asymmetry = AsymmetryOf(p);
+  if (!asymmetry.empty()) return Unsupported(p, Name(), asymmetry);
+  const std::lock_guard<std::mutex> lock(MumpsLock());
+  IpoptStep<DelassusProblem> step(p, options);
   return SolveByDeSaxceFixedPoint(p, options, Name(), step);
 }
 

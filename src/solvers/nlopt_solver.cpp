@@ -6,10 +6,12 @@
 // so the cone constraints become bounds. A frictionless contact (or μ = 0) keeps one
 // variable r_n ≥ 0, a held contact one free variable r_n (r_t = 0). With r = E y,
 //     minimise  ½ yᵀ Eᵀ W E y + Eᵀ(q + s)·y   over y ≥ l,
-// gradient Eᵀ(W r + q + s) = Eᵀ(ũ + s). W is never formed: ũ = H (v_free + M⁻¹ Hᵀ r) +
-// offset is two sparse products (a pressure bath's cell rate is one more column of H, which
-// would make W dense). Each column of E is divided by √(e·W e) (Jacobi scaling), so the
-// Hessian has a constant diagonal.
+// gradient Eᵀ(W r + q + s) = Eᵀ(ũ + s). For a body problem W is never formed: ũ = H (v_free
+// + M⁻¹ Hᵀ r) + offset is two sparse products (a pressure bath's cell rate is one more column
+// of H, which would make W dense). For a Delassus-form problem (SolveDelassus) the products
+// are with the sparse W as given, which must be symmetric (de_saxce.hpp, AsymmetryOf). Each
+// column of E is divided by √(e·W e) ≈ √(W_nn + μ² W_tt) (Jacobi scaling, exact for an
+// uncoupled block), so the Hessian has a (nearly) constant diagonal.
 //
 // Accuracy. Near the minimum the objective changes by ‖g‖² while its value is O(‖g₀‖²):
 // with an objective in absolute terms, a line search can resolve the gradient only to
@@ -69,16 +71,16 @@ struct EdgeMap {
 constexpr double kResolution = 1e6;
 constexpr double kBoundSnap = 1e-8;  // Luksan's eps9, for bounds of magnitude ≤ 1
 
-EdgeMap MakeEdgeMap(const ContactProblem& p, double impulse_scale) {
+EdgeMap MakeEdgeMap(const ContactLayout& p, double impulse_scale) {
   EdgeMap map;
-  const int m = p.UnknownsPerContact();
+  const int m = p.per_contact;
   std::vector<Eigen::Triplet<double>> t;
   map.kind.assign(p.NumContacts(), Variables::kNone);
   map.first.assign(p.NumContacts(), -1);
   map.unit.assign(p.NumContacts(), 0.0);
   for (int k = 0; k < p.NumContacts(); ++k) {
-    const ProblemContact& c = p.contacts[k];
-    const Eigen::Vector2d w = DelassusDiagonal(p, k);
+    const ContactLaw& c = p.laws[k];
+    const Eigen::Vector2d& w = p.diagonal[k];
     const bool edges = p.frictional && c.kind == ConstraintKind::kUnilateral && c.mu > 0.0;
     const double curvature = edges ? w[0] + c.mu * c.mu * w[1] : w[0];
     if (!(curvature > 0.0)) continue;
@@ -100,9 +102,9 @@ EdgeMap MakeEdgeMap(const ContactProblem& p, double impulse_scale) {
 }
 
 // y of impulses r (projected on the cones first, so that the edge weights are ≥ 0).
-Eigen::VectorXd EdgeValues(const ContactProblem& p, const EdgeMap& map, const Eigen::VectorXd& r) {
+Eigen::VectorXd EdgeValues(const ContactLayout& p, const EdgeMap& map, const Eigen::VectorXd& r) {
   Eigen::VectorXd y(map.lower.size());
-  const int m = p.UnknownsPerContact();
+  const int m = p.per_contact;
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int i = map.first[k];
     switch (map.kind[k]) {
@@ -110,7 +112,7 @@ Eigen::VectorXd EdgeValues(const ContactProblem& p, const EdgeMap& map, const Ei
       case Variables::kFreeNormal: y[i] = r[k * m] / map.unit[k]; break;
       case Variables::kNormal: y[i] = std::max(0.0, r[k * m]) / map.unit[k]; break;
       case Variables::kEdges: {
-        const double mu = p.contacts[k].mu;
+        const double mu = p.laws[k].mu;
         const Eigen::Vector2d rc = ProjectOnCone(Eigen::Vector2d(r[k * m], r[k * m + 1]), mu);
         y[i] = 0.5 * (rc[0] + rc[1] / mu) / map.unit[k];
         y[i + 1] = 0.5 * (rc[0] - rc[1] / mu) / map.unit[k];
@@ -125,6 +127,41 @@ struct NloptDeleter {
   void operator()(nlopt_opt o) const { nlopt_destroy(o); }
 };
 using NloptHandle = std::unique_ptr<std::remove_pointer_t<nlopt_opt>, NloptDeleter>;
+
+// Products with W and the posed velocity ũ = W r + q, of either form.
+class Delassus {
+ public:
+  virtual ~Delassus() = default;
+  virtual Eigen::VectorXd Apply(const Eigen::VectorXd& r) const = 0;   // W r
+  virtual Eigen::VectorXd Posed(const Eigen::VectorXd& r) const = 0;   // W r + q
+};
+
+// Body form: W is never formed, ũ = H (v_free + M⁻¹ Hᵀ r) + offset.
+class BodyDelassus final : public Delassus {
+ public:
+  explicit BodyDelassus(const ContactProblem& p)
+      : h_(AssembleJacobian(p)), ht_(h_.transpose()), inverse_mass_(InverseMassDiagonal(p)),
+        free_velocity_(FreeVelocityVector(p)), offset_(VelocityOffset(p)) {}
+  Eigen::VectorXd Apply(const Eigen::VectorXd& r) const override { return h_ * inverse_mass_.cwiseProduct(ht_ * r); }
+  Eigen::VectorXd Posed(const Eigen::VectorXd& r) const override {
+    return h_ * (free_velocity_ + inverse_mass_.cwiseProduct(ht_ * r)) + offset_;
+  }
+
+ private:
+  const SparseMatrix h_, ht_;
+  const Eigen::VectorXd inverse_mass_, free_velocity_, offset_;
+};
+
+// Delassus form: the sparse W as given (symmetric, AsymmetryOf).
+class StoredDelassus final : public Delassus {
+ public:
+  explicit StoredDelassus(const DelassusProblem& p) : p_(p) {}
+  Eigen::VectorXd Apply(const Eigen::VectorXd& r) const override { return p_.w * r; }
+  Eigen::VectorXd Posed(const Eigen::VectorXd& r) const override { return p_.w * r + p_.q; }
+
+ private:
+  const DelassusProblem& p_;
+};
 
 class NloptStep;
 
@@ -146,17 +183,15 @@ double Objective(unsigned n, const double* x, double* gradient, void* data);
 
 class NloptStep final : public ConvexStepSolver {
  public:
-  NloptStep(const ContactProblem& p, const SolverOptions& o, double impulse_scale)
-      : p_(p), o_(o), law_(p), map_(MakeEdgeMap(p, impulse_scale)), h_(AssembleJacobian(p)), ht_(h_.transpose()),
-        inverse_mass_(InverseMassDiagonal(p)), free_velocity_(FreeVelocityVector(p)), offset_(VelocityOffset(p)) {}
+  template <class Problem>
+  NloptStep(const Problem& p, const SolverOptions& o, double impulse_scale, std::unique_ptr<const Delassus> delassus)
+      : layout_(LayoutOf(p)), o_(o), law_(p), map_(MakeEdgeMap(layout_, impulse_scale)), w_(std::move(delassus)) {}
 
   ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start, double tolerance) override;
   std::string IterationName() const override { return "NLopt evaluations"; }
 
   // W r, matrix-free.
-  Eigen::VectorXd ApplyDelassus(const Eigen::VectorXd& r) const {
-    return h_ * inverse_mass_.cwiseProduct(ht_ * r);
-  }
+  Eigen::VectorXd ApplyDelassus(const Eigen::VectorXd& r) const { return w_->Apply(r); }
   const EdgeMap& map() const { return map_; }
   const ConvexLaw& law() const { return law_; }
 
@@ -164,12 +199,11 @@ class NloptStep final : public ConvexStepSolver {
   void StartRun(Run& run, const Eigen::VectorXd& y0) const;
   nlopt_result RunOnce(Run& run, int evaluations_left) const;
 
-  const ContactProblem& p_;
+  const ContactLayout layout_;
   const SolverOptions& o_;
   const ConvexLaw law_;
   const EdgeMap map_;
-  const SparseMatrix h_, ht_;
-  const Eigen::VectorXd inverse_mass_, free_velocity_, offset_;
+  const std::unique_ptr<const Delassus> w_;
 };
 
 double Objective(unsigned n, const double* x, double* gradient, void* data) {
@@ -202,7 +236,7 @@ void NloptStep::StartRun(Run& run, const Eigen::VectorXd& y0) const {
     if (run.y0[i] < map_.lower[i] + kBoundSnap) run.y0[i] = map_.lower[i];
   }
   run.r0 = map_.e * run.y0;
-  run.u0 = h_ * (free_velocity_ + inverse_mass_.cwiseProduct(ht_ * run.r0)) + offset_;
+  run.u0 = w_->Posed(run.r0);
   run.g0 = map_.e.transpose() * (run.u0 + *run.shift);
   // σ: the run's objective starts with a unit projected gradient (at a bound, only the
   // component pointing into the feasible side counts).
@@ -237,7 +271,7 @@ ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd&
   run.step = this;
   run.shift = &shift;
   run.tolerance = tolerance;
-  StartRun(run, EdgeValues(p_, map_, start));
+  StartRun(run, EdgeValues(layout_, map_, start));
   run.best_y = run.y0;
   run.best_residual = law_.Residual(run.r0, run.u0, shift);
   run.reached = run.best_residual <= tolerance || map_.lower.empty();
@@ -266,12 +300,28 @@ ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd&
 
 }  // namespace
 
+namespace {
+
+template <class Problem>
+double ImpulseScale(const Problem& p) {
+  const bool warm = p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite();
+  return ComputeResidual(p, warm ? p.initial_guess : Eigen::VectorXd::Zero(p.NumUnknowns())).scale;
+}
+
+}  // namespace
+
 SolveResult NloptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
   Validate(options);
-  const bool warm = p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite();
-  const double impulse_scale =
-      ComputeResidual(p, warm ? p.initial_guess : Eigen::VectorXd::Zero(p.NumUnknowns())).scale;
-  NloptStep step(p, options, impulse_scale);
+  NloptStep step(p, options, ImpulseScale(p), std::make_unique<const BodyDelassus>(p));
+  return SolveByDeSaxceFixedPoint(p, options, Name(), step);
+}
+
+SolveResult NloptSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
+  Validate(p);
+  Validate(options);
+  const std::string asymmetry = AsymmetryOf(p);
+  if (!asymmetry.empty()) return Unsupported(p, Name(), asymmetry);
+  NloptStep step(p, options, ImpulseScale(p), std::make_unique<const StoredDelassus>(p));
   return SolveByDeSaxceFixedPoint(p, options, Name(), step);
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `unjam solve PROBLEM.dat` and `unjam solve FILE --export-problem OUT.dat`: known
-# solutions with every backend, both residual measures, the impulses file, export of a
-# packing and re-reading it, errors naming file and line, no output left on error.
+# solutions with every backend (ipopt and nlopt refuse a non-symmetric W), both residual
+# measures, the impulses file, export of a packing and re-reading it, errors naming file
+# and line, no output left on error.
 # Usage: cli_siconos.sh UNJAM_BINARY SOURCE_DIR
 set -u
 unjam="$1"
@@ -33,7 +34,7 @@ PY
 }
 
 # Hand-written problems (solutions in problems/README.md), every backend.
-for backend in nsgs newton; do
+for backend in nsgs newton ipopt nlopt; do
   expect_code 0 "stick $backend" "$unjam" solve "$problems/one-contact-stick.dat" --backend "$backend" --json --forces --tol 1e-14
   check_impulses "$work/out" 0.5 -0.1 || fail "one-contact-stick with $backend"
   expect_code 0 "coupled $backend" "$unjam" solve "$problems/coupled-block-slide.dat" --backend "$backend" --json --forces --tol 1e-14
@@ -98,6 +99,15 @@ sed -i 's/^particles 2$/prescribed-gap 0 1 0 0 0\nparticles 2/' "$work/held.unja
 expect_code 1 "held contact export" "$unjam" solve "$work/held.unjam" --export-problem "$work/held.dat"
 grep -q "held" "$work/err" || fail "held contact not named: $(cat "$work/err")"
 [ ! -e "$work/held.dat" ] || fail "an export was left behind for a held contact"
+
+# A non-symmetric W: ipopt and nlopt refuse it (no convex program), a usage error (exit 2)
+# naming the reason; nothing is written. nsgs solves it as given.
+printf '2\n1\n0\n2\n2\n2 2\n2 1\n0 4\n-1 0\n1\n' >"$work/nonsym.dat"
+for backend in ipopt nlopt; do
+  expect_code 2 "non-symmetric W with $backend" "$unjam" solve "$work/nonsym.dat" --backend "$backend" -o "$work/never.txt"
+  grep -q "not symmetric" "$work/err" || fail "non-symmetric W with $backend: reason not named: $(cat "$work/err")"
+done
+expect_code 0 "non-symmetric W with nsgs" "$unjam" solve "$work/nonsym.dat" --backend nsgs --tol 1e-14
 
 # Bad problem files: exit 1, file and line named, no output left behind.
 printf '2\n1\n0\n2\n2\n2 2\n2 0\nnan 4\n-1 0.4\n1\n' >"$work/nan.dat"

@@ -46,7 +46,6 @@ TEST_P(StoredProblem, HandWrittenFilesSolveToTheirKnownSolutions) {
   for (const Known& known : KnownSolutions()) {
     const DelassusProblem p = ReadSiconosProblem(Problem(known.file));
     const StoredSolution s = SolveStoredProblem(p, GetParam(), o);
-    if (s.report.status == SolveStatus::kUnsupported) GTEST_SKIP() << GetParam() << " does not solve W-form problems";
     ASSERT_TRUE(s.report.converged()) << known.file << ": " << s.report.message;
     ASSERT_EQ(s.impulses.size(), static_cast<Eigen::Index>(known.impulses.size())) << known.file;
     for (std::size_t i = 0; i < known.impulses.size(); ++i) {
@@ -77,7 +76,6 @@ TEST_P(StoredProblem, FrictionlessScenesGiveTheForcesOfTheDirectSolve) {
     ASSERT_TRUE(direct.report.converged()) << direct.report.message;
     const StaticProblem posed = PoseStaticProblem(scene, o);
     const StoredSolution s = SolveStoredProblem(ThroughFile(posed), GetParam(), o.solver);
-    if (s.report.status == SolveStatus::kUnsupported) GTEST_SKIP();
     ASSERT_TRUE(s.report.converged()) << s.report.message;
     const std::vector<int>& source = posed.assembled.source_contact;
     for (std::size_t k = 0; k < source.size(); ++k) {
@@ -90,7 +88,7 @@ TEST_P(StoredProblem, FrictionlessScenesGiveTheForcesOfTheDirectSolve) {
 
 TEST_P(StoredProblem, BundledPileThroughAFileReachesTheResidualOfTheDirectSolve) {
   // From cold in both forms (the file has no warm start): the frictional pile is degenerate
-  // for every backend near 1e-8 (docs/backends.md); both reach 1e-7.
+  // for every backend near 1e-8 (docs/backends.md); nsgs, newton and ipopt reach 1e-7.
   Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   scene.forces.clear();
   StaticSolveOptions o;
@@ -98,12 +96,21 @@ TEST_P(StoredProblem, BundledPileThroughAFileReachesTheResidualOfTheDirectSolve)
   o.solver.tolerance = 1e-7;
   const StaticProblem posed = PoseStaticProblem(scene, o);
   const DelassusProblem read = ThroughFile(posed);
-  const StoredSolution s = SolveStoredProblem(read, GetParam(), o.solver);
-  if (s.report.status == SolveStatus::kUnsupported) GTEST_SKIP() << GetParam() << " does not solve the W form";
-  ASSERT_TRUE(s.report.converged()) << s.report.message;
+  if (GetParam() == "nlopt") {
+    // nlopt's documented limit (docs/backends.md): it stalls near 1e-7 in both forms, and
+    // says so. The through-the-file residual is then checked against nsgs's direct solve.
+    o.solver.nlopt_max_evaluations = 2000;
+    const StoredSolution s = SolveStoredProblem(read, GetParam(), o.solver);
+    EXPECT_EQ(s.report.status, SolveStatus::kIterationLimit) << s.report.message;
+    EXPECT_LT(s.report.residual, 1e-6);
+    o.backend = "nsgs";
+  } else {
+    const StoredSolution s = SolveStoredProblem(read, GetParam(), o.solver);
+    ASSERT_TRUE(s.report.converged()) << s.report.message;
+    EXPECT_LE(s.report.residual, 1e-7);
+  }
   const StaticSolution direct = SolveStatic(scene, o);
   ASSERT_TRUE(direct.report.converged()) << direct.report.message;
-  EXPECT_LE(s.report.residual, 1e-7);
   // The direct solution judged through the file: the same residual, to rounding.
   Eigen::VectorXd direct_impulses(read.NumUnknowns());
   const std::vector<int>& source = posed.assembled.source_contact;
