@@ -1,6 +1,7 @@
 #include "cli_common.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -29,6 +30,23 @@ SolverOptions SolverFlags::Resolve() const {
   Validate(o);
   MakeSolver(backend);  // throws for an unknown backend, listing the known ones
   return o;
+}
+
+namespace {
+std::string ShellQuoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+}  // namespace
+
+bool RunPlotScript(const std::string& name, const std::vector<std::string>& args) {
+  std::filesystem::path script = std::filesystem::path("scripts") / name;
+  if (!std::filesystem::exists(script)) script = std::filesystem::path(UNJAM_SOURCE_DIR) / "scripts" / name;
+  std::string command = "/usr/bin/python3 " + ShellQuoted(script.string());
+  for (const std::string& a : args) command += " " + ShellQuoted(a);
+  command += " >/dev/null";
+  return std::system(command.c_str()) == 0;
 }
 
 std::string DefaultPackingPath() {

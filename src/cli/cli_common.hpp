@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -46,6 +47,11 @@ std::string Format(const char* fmt, auto... args) {
   std::snprintf(buf, sizeof buf, fmt, args...);
   return buf;
 }
+
+// Runs scripts/NAME (found from the working directory, then in the source tree) with
+// Debian's /usr/bin/python3 (matplotlib) and the arguments, each quoted for the shell;
+// stdout is discarded. True if it exited 0.
+bool RunPlotScript(const std::string& name, const std::vector<std::string>& args);
 
 // A number, or null where it is not finite (JSON has no NaN or infinity).
 nlohmann::json NumberOrNull(double x);

@@ -2,7 +2,6 @@
 #include "command_compare.hpp"
 
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -68,13 +67,6 @@ std::string Csv(const std::vector<ComparisonRun>& runs) {
   return os.str();
 }
 
-bool Plot(const std::filesystem::path& dir) {
-  std::filesystem::path script = "scripts/plot_compare.py";
-  if (!std::filesystem::exists(script)) script = std::filesystem::path(UNJAM_SOURCE_DIR) / script;
-  const std::string command = "/usr/bin/python3 '" + script.string() + "' '" + dir.string() + "' >/dev/null";
-  return std::system(command.c_str()) == 0;
-}
-
 }  // namespace
 
 int RunCompare(const CompareFlags& f) {
@@ -111,7 +103,7 @@ int RunCompare(const CompareFlags& f) {
     std::filesystem::create_directories(dir);
     WriteFileAtomically(dir / "compare.csv", Csv(runs));
     WriteFileAtomically(dir / "summary.json", out.dump(2) + "\n");
-    if (!Plot(dir)) {
+    if (!RunPlotScript("plot_compare.py", {dir.string()})) {
       std::fprintf(stderr, "unjam: error: the figures were not drawn (needs /usr/bin/python3 with matplotlib)\n");
       rc = kInternalError;
     }

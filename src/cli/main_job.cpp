@@ -7,8 +7,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -94,23 +94,14 @@ std::string TableCsv(const std::vector<Row>& rows) {
   return os.str();
 }
 
-std::string Quoted(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-// The PNG through scripts/plot_displacement.py (matplotlib, Debian's /usr/bin/python3).
+// The PNG through scripts/plot_displacement.py (matplotlib).
 bool PlotField(const std::filesystem::path& dir, const PerturbationResult& r, double gap) {
-  std::filesystem::path script = "scripts/plot_displacement.py";
-  if (!std::filesystem::exists(script)) script = std::filesystem::path(UNJAM_SOURCE_DIR) / script;
   const std::string title = Format("contact %d-%d opened by xi = %.3g: F_crit %.5g, delta %.3g (%s)", r.target.i, r.target.j,
                                    gap, r.f_crit, r.penetration_depth, r.status.c_str());
-  const std::string command = "/usr/bin/python3 " + Quoted(script.string()) + " " + Quoted((dir / "displacement.csv").string()) +
-                              " " + Quoted((dir / "displacement.png").string()) + Format(" --gap %.17g", gap) +
-                              Format(" --origin %.17g %.17g --normal %.17g %.17g", r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y()) +
-                              " --title " + Quoted(title) + " >/dev/null";
-  return std::system(command.c_str()) == 0;
+  return RunPlotScript("plot_displacement.py",
+                       {(dir / "displacement.csv").string(), (dir / "displacement.png").string(), "--gap", Format("%.17g", gap),
+                        "--origin", Format("%.17g", r.origin.x()), Format("%.17g", r.origin.y()), "--normal",
+                        Format("%.17g", r.axis.x()), Format("%.17g", r.axis.y()), "--title", title});
 }
 
 }  // namespace
