@@ -1,19 +1,7 @@
 #!/usr/bin/env bash
 # Command-line behaviour: exit codes, JSON keys, errors naming file and line, no partial
 # output. Usage: cli_basics.sh UNJAM_BINARY SOURCE_DIR
-set -u
-unjam="$1"
-src="$2"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-expect_code() {  # expected-code description command...
-  local want="$1" what="$2"; shift 2
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "$what: exit $got, expected $want; stderr: $(head -c 300 "$work/err")"
-}
+source "$(dirname "$0")/harness.bash" "$@"
 
 # A small valid packing: a stack of two disks on a floor.
 cat >"$work/stack.unjam" <<'PACK'
@@ -95,5 +83,4 @@ expect_code 1 "missing file" "$unjam" info "$work/does-not-exist.unjam"
 expect_code 1 "unwritable output" "$unjam" solve "$work/stack.unjam" -o "$work/no/such/dir/out.unjam"
 ls "$work/no" >/dev/null 2>&1 && fail "output directory was created"
 
-echo "cli_basics: $failures failures"
-[ "$failures" -eq 0 ]
+finish cli_basics

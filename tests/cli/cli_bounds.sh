@@ -2,12 +2,7 @@
 # `unjam bounds`: the frictionless V-groove (one network: zero width, F_crit = LP max), the
 # frictional one (the analytic interval), CSV and JSON, and bad input.
 # Usage: cli_bounds.sh UNJAM_BINARY SOURCE_DIR
-set -u
-unjam="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/harness.bash" "$@"
 
 groove() {  # friction output
   printf 'unjam-packing 1\ncell 10 10\ngravity 0 -1\nfriction %s\nparticles 3\n3.8 1 0 0 0 0 1 1 1\n6.2 1 0 0 0 0 1 1 1\n5 2.6 0 0 0 0 1 1 0\nend\n' "$1" >"$work/bare.unjam"
@@ -67,5 +62,4 @@ check 2 "--lp simplex" "$work/g5.unjam" --lp simplex
 check 2 "--mode bogus" "$work/g5.unjam" --mode bogus
 check 1 "missing file" "$work/none.unjam"
 
-echo "cli_bounds: $failures failures"
-[ "$failures" -eq 0 ]
+finish cli_bounds

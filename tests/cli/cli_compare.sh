@@ -3,13 +3,7 @@
 # at or below the tolerance), unique solutions found by every backend, figures written, bad
 # options refused.
 # Usage: cli_compare.sh UNJAM_BINARY SOURCE_DIR
-set -u
-unjam="$1"
-src="$2"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/harness.bash" "$@"
 
 "$unjam" compare "$src/problems/siconos/one-contact-slide.dat" "$src/problems/siconos/two-contacts-open.dat" \
   "$src/problems/gravity-n100-mu0.5.unjam" --openings 1 --backends nsgs,newton --tols 1e-6,1e-10 \
@@ -42,5 +36,4 @@ done
 "$unjam" compare "$work/missing.dat" -o "$work/m" >/dev/null 2>"$work/err"; rc=$?
 [ $rc = 1 ] && [ ! -e "$work/m/compare.csv" ] || fail "missing file: exit $rc"
 
-[ $failures = 0 ] && echo "all compare checks passed"
-exit $failures
+finish cli_compare

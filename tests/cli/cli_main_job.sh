@@ -3,12 +3,7 @@
 # table and its CSV agree, a quasi-static F_crit lies inside its LP interval, the figure is
 # a PNG, and main-job options are refused beside a command.
 # Usage: cli_main_job.sh UNJAM_BINARY SOURCE_DIR
-set -u
-unjam="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/harness.bash" "$@"
 
 cd "$work"
 "$unjam" --sample 3 --seed 4 --threads 1 --out "$work/mj" >"$work/out.txt" || fail "main job: exit $?"
@@ -37,5 +32,4 @@ PY
 "$unjam" --sample 2 info "$2/problems/gravity-n100-mu0.5.unjam" >/dev/null 2>"$work/err.txt"; rc=$?
 [ $rc = 2 ] && grep -q "main job" "$work/err.txt" || fail "main-job option beside a command: exit $rc"
 
-[ $failures = 0 ] && echo "all main-job checks passed"
-exit $failures
+finish cli_main_job

@@ -2,12 +2,7 @@
 # `unjam pack --protocol gravity`: a small pile settles, is static, and is reproduced bit
 # for bit from its seed; re-solving the saved pile gives back its forces.
 # Usage: cli_pack.sh UNJAM_BINARY SOURCE_DIR
-set -u
-unjam="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/harness.bash" "$@"
 
 "$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/a.unjam" --json --quiet >"$work/a.json" || fail "pack a: exit $?"
 "$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 -o "$work/b.unjam" --json --quiet >"$work/b.json" || fail "pack b: exit $?"
@@ -65,5 +60,4 @@ grep -q "mu 0.6" "$work/m.err" || fail "the error does not name the differing pa
 [ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"
 [ ! -e "$work/c.unjam" ] || fail "--n 0 left a file"
 
-echo "cli_pack: $failures failures"
-[ "$failures" -eq 0 ]
+finish cli_pack

@@ -2,12 +2,7 @@
 # `unjam perturb`: a frictionless V-groove (a disk on two fixed disks) opened contact by
 # contact: the critical force is the static force; outputs, JSON, resume, and bad input.
 # Usage: cli_perturb.sh UNJAM_BINARY SOURCE_DIR
-set -u
-unjam="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/harness.bash" "$@"
 
 printf 'unjam-packing 1\ncell 10 10\ngravity 0 -1\nparticles 3\n3.8 1 0 0 0 0 1 1 1\n6.2 1 0 0 0 0 1 1 1\n5 2.6 0 0 0 0 1 1 0\nend\n' >"$work/bare.unjam"
 "$unjam" solve "$work/bare.unjam" --tol 1e-14 -o "$work/vg.unjam" >/dev/null || fail "solve: exit $?"
@@ -57,5 +52,4 @@ check 2 "--gap -1" "$work/vg.unjam" --all --gap -1
 check 1 "no forces" "$work/bare.unjam" --all
 grep -q "bare.unjam" "$work/err" || fail "no-forces error does not name the file"
 
-echo "cli_perturb: $failures failures"
-[ "$failures" -eq 0 ]
+finish cli_perturb

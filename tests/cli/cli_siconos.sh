@@ -4,20 +4,8 @@
 # measures, the impulses file, export of a packing and re-reading it, errors naming file
 # and line, no output left on error.
 # Usage: cli_siconos.sh UNJAM_BINARY SOURCE_DIR
-set -u
-unjam="$1"
-src="$2"
+source "$(dirname "$0")/harness.bash" "$@"
 problems="$src/problems/siconos"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-expect_code() {  # expected-code description command...
-  local want="$1" what="$2"; shift 2
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "$what: exit $got, expected $want; stderr: $(head -c 300 "$work/err")"
-}
 # check_impulses JSON_FILE r0 r1 ...: the impulses of a --json --forces run, to 1e-12.
 check_impulses() {
   /usr/bin/python3 - "$@" <<'PY'
@@ -129,5 +117,4 @@ for f in never.txt never.dat; do [ ! -e "$work/$f" ] || fail "$f was left behind
 ls "$work/no" >/dev/null 2>&1 && fail "output directory was created"
 ls "$work" | grep -q '\.tmp\.' && fail "a temporary file was left behind"
 
-echo "cli_siconos: $failures failures"
-[ "$failures" -eq 0 ]
+finish cli_siconos
