@@ -1,9 +1,11 @@
 #include "cli_common.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
+#include <thread>
 
 namespace unjam::cli {
 
@@ -47,6 +49,10 @@ bool RunPlotScript(const std::string& name, const std::vector<std::string>& args
   for (const std::string& a : args) command += " " + ShellQuoted(a);
   command += " >/dev/null";
   return std::system(command.c_str()) == 0;
+}
+
+int ThreadsFromOption(int requested) {
+  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 std::string DefaultPackingPath() {

@@ -36,6 +36,9 @@ struct SolverFlags {
   SolverOptions Resolve() const;   // throws std::invalid_argument on a bad value
 };
 
+// The thread count of a `--threads N` option: N, or every core for 0.
+int ThreadsFromOption(int requested);
+
 // The bundled default packing (problems/pressure-n500-mu0.5.unjam), found from the working directory
 // or the source tree.
 std::string DefaultPackingPath();

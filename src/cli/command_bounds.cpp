@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <sstream>
 #include <optional>
-#include <thread>
 
 #include "unjam/indeterminacy/force_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -143,7 +142,7 @@ int RunBounds(const BoundsFlags& f) {
   so.margin = std::max(so.margin, f.gap_tolerance);
   const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
   const std::vector<int> selected = SelectContacts(f.contacts, scene, system);
-  const int threads = f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency());
+  const int threads = ThreadsFromOption(f.threads);
   BoundsOptions bo;
   bo.warm_start = !f.cold;
   bo.lp = lp;

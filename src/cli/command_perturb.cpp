@@ -8,7 +8,6 @@
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <thread>
 
 #include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -295,7 +294,7 @@ int RunPerturb(const PerturbFlags& f) {
     index_of.push_back(k);
   }
   if (!f.quiet && !records.empty()) std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(), selection.targets.size());
-  const int threads = f.threads > 0 ? f.threads : std::max(1u, std::thread::hardware_concurrency());
+  const int threads = ThreadsFromOption(f.threads);
   const int total = static_cast<int>(selection.targets.size());
   PerturbAll(base, todo, options, threads, [&](int t, const PerturbationResult& r) {
     const int k = index_of[t];

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <optional>
 #include <sstream>
-#include <thread>
 
 #include "command_perturb.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
@@ -128,7 +127,7 @@ int RunMainJob(const MainJobFlags& flags) {
   const std::vector<PerturbationTarget> targets = SampleTargets(ContactTargets(base), flags.sample, flags.seed);
   std::vector<Row> rows(targets.size());
   std::optional<PerturbationResult> shown;
-  const int threads = flags.threads > 0 ? flags.threads : std::max(1u, std::thread::hardware_concurrency());
+  const int threads = ThreadsFromOption(flags.threads);
   PerturbAll(base, targets, options, threads, [&](int k, const PerturbationResult& r) {
     rows[k] = {r.target, r.f_reference, r.f_crit, r.penetration_depth, r.solve.residual, r.status, {}, {}, {}};
     if (!shown || (!shown->ok() && r.ok())) shown = r;  // the first usable response, else the first
