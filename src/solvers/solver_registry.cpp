@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "ipopt_solver.hpp"
+#include "lemke.hpp"
 #include "newton.hpp"
 #include "nlopt_solver.hpp"
 #include "nsgs.hpp"
@@ -86,13 +87,14 @@ SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverO
   return result;
 }
 
-std::vector<std::string> AvailableBackends() { return {"nsgs", "newton", "ipopt", "nlopt"}; }
+std::vector<std::string> AvailableBackends() { return {"nsgs", "newton", "ipopt", "nlopt", "lemke"}; }
 
 std::unique_ptr<ContactSolver> MakeSolver(const std::string& name) {
   if (name == "nsgs") return std::make_unique<NsgsSolver>();
   if (name == "newton") return std::make_unique<NewtonSolver>();
   if (name == "ipopt") return std::make_unique<IpoptSolver>();
   if (name == "nlopt") return std::make_unique<NloptSolver>();
+  if (name == "lemke") return std::make_unique<LemkeSolver>();
   std::string known;
   for (const std::string& b : AvailableBackends()) known += (known.empty() ? "" : ", ") + b;
   throw std::invalid_argument("unknown backend '" + name + "' (available: " + known + ")");

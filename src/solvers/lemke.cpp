@@ -1,0 +1,172 @@
+// The exact 2D Signorini–Coulomb law as a mixed LCP, solved by Lemke's method
+// (lemke_mlcp.hpp).
+//
+// In 2D the Coulomb cone is polyhedral, so the law of a time step is a linear
+// complementarity problem (Stewart & Trinkle 1996; Anitescu & Potra 1997 show that
+// Lemke's method solves it). Per unilateral frictional contact, with the posed velocity
+// (ũ_n, u_t), r_t = a − b and a slip speed s:
+//     ũ_n          ≥ 0  ⟂  r_n ≥ 0
+//     u_t + s      ≥ 0  ⟂  a   ≥ 0
+//    −u_t + s      ≥ 0  ⟂  b   ≥ 0
+//     μ r_n − a − b ≥ 0  ⟂  s   ≥ 0
+// Sticking: s = 0 and u_t = 0; sliding with u_t > 0: a = 0, b = μ r_n, s = u_t; this is
+// exactly r_t = −μ r_n sign(u_t). A frictionless contact keeps the first pair only; a held
+// (bilateral) contact has r_n = p − m with ũ_n ⟂ p and −ũ_n ⟂ m, i.e. ũ_n = 0, r_n free.
+//
+// The velocities stay free unknowns instead of being eliminated into W = H M⁻¹ Hᵀ:
+//     v − M⁻¹Hᵀ r = v_free,   ũ = H v + offset,
+// because W is dense under a pressure bath (the cell rate couples every contact) while H
+// and M⁻¹ are sparse. A Delassus-form problem is the same with H = I, M⁻¹Hᵀ = W, v_free = q.
+//
+// What it gives: an exact solution (one basis, solved to round-off) whenever the method
+// ends on one. The frictional law may have several solutions; Lemke's path picks one,
+// the one reached from zero impulses by the covering-vector homotopy, which need not be
+// the one nearest the warm start (the warm start is not used). A ray termination is
+// reported as a numerical failure with its cause.
+#include "lemke.hpp"
+#include "lemke_mlcp.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "unjam/solvers/residual.hpp"
+
+namespace unjam {
+
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// The body or Delassus problem as matrices: v = v_free + G r, ũ = H v + offset.
+struct Kinematics {
+  int per_contact = 2;
+  SparseMatrix h;          // unknowns × dofs
+  SparseMatrix g;          // dofs × unknowns (M⁻¹Hᵀ, or W)
+  Eigen::VectorXd v_free;
+  Eigen::VectorXd offset;
+  std::vector<ContactLaw> laws;
+};
+
+Kinematics FromBodies(const ContactProblem& p) {
+  Kinematics k;
+  k.per_contact = p.UnknownsPerContact();
+  k.h = AssembleJacobian(p);
+  k.g = InverseMassDiagonal(p).asDiagonal() * k.h.transpose();
+  k.v_free = FreeVelocityVector(p);
+  k.offset = VelocityOffset(p);
+  for (const ProblemContact& c : p.contacts) k.laws.push_back({c.mu, c.kind});
+  return k;
+}
+
+Kinematics FromDelassus(const DelassusProblem& p) {
+  Kinematics k;
+  k.h.resize(p.NumUnknowns(), p.NumUnknowns());
+  k.h.setIdentity();
+  k.g = p.w;
+  k.v_free = p.q;
+  k.offset = Eigen::VectorXd::Zero(p.NumUnknowns());
+  k.laws = p.laws;
+  return k;
+}
+
+// The complementarity rows and variables of the contact laws (the table at the top).
+struct Encoding {
+  Triplets impulse;   // r = T z: (unknown, variable, coefficient)
+  Triplets velocity;  // S: (row, unknown, coefficient), so that w = S ũ + E z
+  Triplets coupling;  // E: (row, variable, coefficient)
+  int variables = 0;
+};
+
+Encoding Encode(const Kinematics& k) {
+  Encoding enc;
+  for (int c = 0; c < static_cast<int>(k.laws.size()); ++c) {
+    const int n = k.per_contact * c, t = n + 1, z = enc.variables;
+    if (k.laws[c].kind == ConstraintKind::kBilateral) {
+      enc.impulse.insert(enc.impulse.end(), {{n, z, 1.0}, {n, z + 1, -1.0}});
+      enc.velocity.insert(enc.velocity.end(), {{z, n, 1.0}, {z + 1, n, -1.0}});
+      enc.variables += 2;
+    } else if (k.per_contact == 1 || k.laws[c].mu == 0.0) {
+      enc.impulse.emplace_back(n, z, 1.0);
+      enc.velocity.emplace_back(z, n, 1.0);
+      enc.variables += 1;
+    } else {  // variables r_n, a, b, s at z … z+3
+      enc.impulse.insert(enc.impulse.end(), {{n, z, 1.0}, {t, z + 1, 1.0}, {t, z + 2, -1.0}});
+      enc.velocity.insert(enc.velocity.end(), {{z, n, 1.0}, {z + 1, t, 1.0}, {z + 2, t, -1.0}});
+      enc.coupling.insert(enc.coupling.end(), {{z + 1, z + 3, 1.0}, {z + 2, z + 3, 1.0},
+                                               {z + 3, z, k.laws[c].mu}, {z + 3, z + 1, -1.0}, {z + 3, z + 2, -1.0}});
+      enc.variables += 4;
+    }
+  }
+  return enc;
+}
+
+SparseMatrix FromTriplets(int rows, int cols, const Triplets& t) {
+  SparseMatrix m(rows, cols);
+  m.setFromTriplets(t.begin(), t.end());
+  return m;
+}
+
+template <class Problem>
+SolveResult SolveLemke(const Problem& problem, const Kinematics& k, const SolverOptions& o, const std::string& name) {
+  const auto start = std::chrono::steady_clock::now();
+  const Encoding enc = Encode(k);
+  const int unknowns = static_cast<int>(k.h.rows());
+  const SparseMatrix t = FromTriplets(unknowns, enc.variables, enc.impulse);
+  const SparseMatrix s = FromTriplets(enc.variables, unknowns, enc.velocity);
+  lemke_internal::Mlcp mlcp;
+  mlcp.p = k.g * t;
+  mlcp.x0 = k.v_free;
+  mlcp.d = s * k.h;
+  mlcp.e_matrix = FromTriplets(enc.variables, enc.variables, enc.coupling);
+  mlcp.e = s * k.offset;
+  // Tie tolerances tried in turn (lemke_mlcp.hpp): a path that ends on a ray, cycles or
+  // misses the tolerance is rerun with the next one. Each run is bounded by 3 pivots per
+  // complementarity row (a path that solves takes fewer than 2 here) and by the caller's
+  // max_iterations overall.
+  const int per_run = std::min(o.max_iterations, 3 * enc.variables + 100);
+  SolveResult result;
+  SolveReport& report = result.report;
+  report.backend = name;
+  std::string history;
+  int pivots = 0;
+  struct Tie { double value; const char* name; };
+  for (const Tie tie : {Tie{1e-16, "1e-16"}, Tie{1e-14, "1e-14"}, Tie{1e-12, "1e-12"}}) {
+    const lemke_internal::LemkeResult lemke =
+        lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), tie.value);
+    pivots += lemke.pivots;
+    const Eigen::VectorXd impulses = t * lemke.z;
+    const double residual = ComputeResidual(problem, impulses).residual;
+    const bool solved = lemke.outcome == lemke_internal::LemkeOutcome::kSolved;
+    if (report.status != SolveStatus::kConverged && (result.impulses.size() == 0 || residual < report.residual)) {
+      result.impulses = impulses;
+      report.residual = residual;
+      report.status = !solved ? SolveStatus::kNumericalFailure
+                      : residual <= o.tolerance ? SolveStatus::kConverged : SolveStatus::kNumericalFailure;
+    }
+    history += (history.empty() ? "" : "; ") + std::string("ties ") + tie.name + ": " + (solved ? "solved" : lemke_internal::ToString(lemke.outcome)) + " after " +
+               std::to_string(lemke.pivots) + " pivots";
+    if (report.converged() || pivots >= o.max_iterations) break;
+  }
+  report.iterations = pivots;
+  if (!report.converged() && pivots >= o.max_iterations) report.status = SolveStatus::kIterationLimit;
+  report.message = "Lemke: " + history;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace
+
+SolveResult LemkeSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(options);
+  return SolveLemke(p, FromBodies(p), options, Name());
+}
+
+SolveResult LemkeSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
+  Validate(p);
+  Validate(options);
+  return SolveLemke(p, FromDelassus(p), options, Name());
+}
+
+}  // namespace unjam

@@ -1,0 +1,16 @@
+// Lemke's complementary pivoting on the exact 2D Signorini–Coulomb LCP ("lemke"): the
+// exact backend. See lemke.cpp.
+#pragma once
+
+#include "unjam/solvers/contact_solver.hpp"
+
+namespace unjam {
+
+class LemkeSolver final : public ContactSolver {
+ public:
+  std::string Name() const override { return "lemke"; }
+  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
+  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;
+};
+
+}  // namespace unjam

@@ -1,0 +1,256 @@
+#include "lemke_mlcp.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <Eigen/UmfPackSupport>
+
+namespace unjam::lemke_internal {
+
+const char* ToString(LemkeOutcome outcome) {
+  switch (outcome) {
+    case LemkeOutcome::kSolved: return "solved";
+    case LemkeOutcome::kRay: return "ray";
+    case LemkeOutcome::kPivotLimit: return "pivot-limit";
+    case LemkeOutcome::kSingularBasis: return "singular-basis";
+  }
+  return "?";
+}
+
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+// Refactorise after this many product-form updates: each update costs one pass over a
+// dense vector per solve, and round-off grows with their number.
+constexpr int kRefactorInterval = 200;
+
+// The variables, numbered: free x_f = f, w_i = nf + i, z_i = nf + n + i, z₀ = nf + 2n.
+// The constraint matrix, one column per variable, rows (free rows; complementarity rows):
+//   x_f: (e_f; −D e_f)   w_i: (0; e_i)   z_i: (−P e_i; −E e_i)   z₀: (0; −1)
+// with right-hand side (x0; e).
+class Tableau {
+ public:
+  explicit Tableau(const Mlcp& p) : nf_(p.NumFree()), n_(p.NumComplementary()) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int f = 0; f < nf_; ++f) t.emplace_back(f, f, 1.0);
+    AddBlock(t, p.d, nf_, 0, -1.0);
+    for (int i = 0; i < n_; ++i) t.emplace_back(nf_ + i, nf_ + i, 1.0);
+    AddBlock(t, p.p, 0, nf_ + n_, -1.0);
+    AddBlock(t, p.e_matrix, nf_, nf_ + n_, -1.0);
+    for (int i = 0; i < n_; ++i) t.emplace_back(nf_ + i, Z0(), -1.0);
+    columns_.resize(Rows(), Z0() + 1);
+    columns_.setFromTriplets(t.begin(), t.end());
+    rhs_.resize(Rows());
+    rhs_ << p.x0, p.e;
+  }
+  int Rows() const { return nf_ + n_; }
+  int Z0() const { return nf_ + 2 * n_; }
+  int W(int i) const { return nf_ + i; }
+  int Z(int i) const { return nf_ + n_ + i; }
+  bool IsFree(int var) const { return var < nf_; }
+  int Complement(int var) const { return var < nf_ + n_ ? var + n_ : var - n_; }
+  const Eigen::VectorXd& Rhs() const { return rhs_; }
+  Eigen::VectorXd Column(int var) const { return Eigen::VectorXd(columns_.col(var)); }
+  SparseMatrix Basis(const std::vector<int>& basic) const {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int pos = 0; pos < Rows(); ++pos) {
+      for (SparseMatrix::InnerIterator it(columns_, basic[pos]); it; ++it) t.emplace_back(it.row(), pos, it.value());
+    }
+    SparseMatrix b(Rows(), Rows());
+    b.setFromTriplets(t.begin(), t.end());
+    return b;
+  }
+
+ private:
+  static void AddBlock(std::vector<Eigen::Triplet<double>>& t, const SparseMatrix& m, int row0, int col0, double sign) {
+    for (int k = 0; k < m.outerSize(); ++k) {
+      for (SparseMatrix::InnerIterator it(m, k); it; ++it) t.emplace_back(row0 + it.row(), col0 + it.col(), sign * it.value());
+    }
+  }
+  int nf_, n_;
+  SparseMatrix columns_;
+  Eigen::VectorXd rhs_;
+};
+
+// B⁻¹ as an LU factorisation of the basis at the last refactorisation followed by the
+// eta matrices of the pivots since.
+class BasisInverse {
+ public:
+  bool Factorise(const SparseMatrix& basis) {
+    basis_ = basis;
+    basis_.makeCompressed();
+    lu_ = std::make_unique<Eigen::UmfPackLU<SparseMatrix>>();
+    // No iterative refinement inside every solve (UMFPACK's default is 2 steps, each a
+    // product and a solve): the path needs only the pivot signs, and the final basis is
+    // refined once (Finish).
+    lu_->umfpackControl()(UMFPACK_IRSTEP) = 0;
+    lu_->compute(basis_);
+    etas_.clear();
+    return lu_->info() == Eigen::Success;
+  }
+  Eigen::VectorXd Solve(const Eigen::VectorXd& v) const {
+    Eigen::VectorXd y = lu_->solve(v);
+    for (const Eta& eta : etas_) {
+      const double yr = y[eta.position] / eta.column[eta.position];
+      if (yr != 0.0) y -= yr * eta.column;
+      y[eta.position] = yr;
+    }
+    return y;
+  }
+  void Update(int position, Eigen::VectorXd column) { etas_.push_back({position, std::move(column)}); }
+  int Updates() const { return static_cast<int>(etas_.size()); }
+  const SparseMatrix& Matrix() const { return basis_; }
+
+ private:
+  struct Eta {
+    int position;
+    Eigen::VectorXd column;
+  };
+  SparseMatrix basis_;
+  std::unique_ptr<Eigen::UmfPackLU<SparseMatrix>> lu_;
+  std::vector<Eta> etas_;
+};
+
+class Lemke {
+ public:
+  Lemke(const Mlcp& p, double tie_tolerance)
+      : tab_(p), nf_(p.NumFree()), n_(p.NumComplementary()), tie_tolerance_(tie_tolerance) {}
+
+  LemkeResult Run(int max_pivots) {
+    basic_.resize(tab_.Rows());
+    for (int f = 0; f < nf_; ++f) basic_[f] = f;
+    for (int i = 0; i < n_; ++i) basic_[nf_ + i] = tab_.W(i);
+    if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the initial basis is singular");
+    int row = -1;
+    for (int i = 0; i < n_; ++i) {  // ties: the largest index (the perturbation ε^i is smallest)
+      if (row < 0 || beta_[nf_ + i] <= beta_[row]) row = nf_ + i;
+    }
+    if (n_ == 0 || beta_[row] >= 0.0) return Finish();
+    int entering = tab_.Z0();
+    while (true) {
+      Eigen::VectorXd alpha = inverse_.Solve(tab_.Column(entering));
+      if (result_.pivots > 0) {
+        row = RatioTest(alpha);
+        if (row < 0) return Fail(LemkeOutcome::kRay, "ray termination: no complementary solution on the path");
+      }
+      const int leaving = basic_[row];
+      Pivot(row, entering, std::move(alpha));
+      if (leaving == tab_.Z0()) return Finish();
+      if (result_.pivots >= max_pivots) return Fail(LemkeOutcome::kPivotLimit, "pivot limit reached");
+      if (inverse_.Updates() >= kRefactorInterval && !Refactorise()) {
+        return Fail(LemkeOutcome::kSingularBasis, "a basis became numerically singular");
+      }
+      entering = tab_.Complement(leaving);
+    }
+  }
+
+ private:
+  bool Refactorise() {
+    ++result_.factorisations;
+    if (!inverse_.Factorise(tab_.Basis(basic_))) return false;
+    beta_ = inverse_.Solve(tab_.Rhs());
+    return beta_.allFinite();
+  }
+
+  void Pivot(int row, int entering, Eigen::VectorXd alpha) {
+    // (The first pivot, z₀ entering, has α = −1 and β < 0 in its row.)
+    const double t = alpha[row] > 0.0 ? std::max(beta_[row], 0.0) / alpha[row] : beta_[row] / alpha[row];
+    beta_ -= t * alpha;
+    beta_[row] = t;
+    basic_[row] = entering;
+    inverse_.Update(row, std::move(alpha));
+    ++result_.pivots;
+  }
+
+  // The blocking row of the entering column α, over bounded basic variables with α_p > 0.
+  // Harris' two passes: the largest step that leaves no basic value below −δ, then the
+  // rows that block within it count as tied (exact degeneracies come out of the solves a
+  // few ulps apart). Among them z₀ first (the path ends), then the lexicographic rule.
+  // δ = tie_tolerance × the largest basic value.
+  int RatioTest(const Eigen::VectorXd& alpha) const {
+    double alpha_scale = 0.0, beta_scale = 0.0;
+    for (int pos = 0; pos < tab_.Rows(); ++pos) {
+      if (tab_.IsFree(basic_[pos])) continue;
+      alpha_scale = std::max(alpha_scale, std::abs(alpha[pos]));
+      beta_scale = std::max(beta_scale, std::abs(beta_[pos]));
+    }
+    const double pivot_tolerance = 1e-11 * alpha_scale;
+    const double delta = tie_tolerance_ * beta_scale;
+    double step = std::numeric_limits<double>::infinity();
+    for (int pos = 0; pos < tab_.Rows(); ++pos) {
+      if (tab_.IsFree(basic_[pos]) || alpha[pos] <= pivot_tolerance) continue;
+      step = std::min(step, (std::max(beta_[pos], 0.0) + delta) / alpha[pos]);
+    }
+    if (step == std::numeric_limits<double>::infinity()) return -1;
+    std::vector<int> tied;
+    for (int pos = 0; pos < tab_.Rows(); ++pos) {
+      if (tab_.IsFree(basic_[pos]) || alpha[pos] <= pivot_tolerance) continue;
+      if (std::max(beta_[pos], 0.0) / alpha[pos] > step) continue;
+      if (basic_[pos] == tab_.Z0()) return pos;
+      tied.push_back(pos);
+    }
+    return Lexicographic(tied, alpha);
+  }
+
+  // Among tied rows, the lexicographically smallest row of B⁻¹ (its complementarity
+  // columns, in order) divided by α: the rule of the perturbed right-hand side e + (ε, ε², …).
+  int Lexicographic(std::vector<int> tied, const Eigen::VectorXd& alpha) const {
+    for (int j = 0; j < n_ && tied.size() > 1; ++j) {
+      const Eigen::VectorXd column = inverse_.Solve(Eigen::VectorXd::Unit(tab_.Rows(), nf_ + j));
+      double best = std::numeric_limits<double>::infinity(), scale = 0.0;
+      for (int pos : tied) {
+        best = std::min(best, column[pos] / alpha[pos]);
+        scale = std::max(scale, std::abs(column[pos] / alpha[pos]));
+      }
+      std::vector<int> next;
+      for (int pos : tied) {
+        if (column[pos] / alpha[pos] <= best + 1e-12 * scale) next.push_back(pos);
+      }
+      tied.swap(next);
+    }
+    return tied.front();
+  }
+
+  LemkeResult Finish() {
+    // A fresh factorisation of the final basis and one step of iterative refinement: the
+    // answer is that of this basis to round-off, not of the product-form updates.
+    if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the final basis is singular");
+    beta_ += inverse_.Solve(tab_.Rhs() - inverse_.Matrix() * beta_);
+    result_.outcome = LemkeOutcome::kSolved;
+    result_.x = beta_.head(nf_);
+    result_.z = Eigen::VectorXd::Zero(n_);
+    for (int pos = 0; pos < tab_.Rows(); ++pos) {
+      const int var = basic_[pos];
+      if (var >= tab_.Z(0) && var < tab_.Z0()) result_.z[var - tab_.Z(0)] = std::max(0.0, beta_[pos]);
+    }
+    return result_;
+  }
+
+  LemkeResult Fail(LemkeOutcome outcome, const std::string& message) {
+    result_.outcome = outcome;
+    result_.message = message;
+    result_.x = beta_.size() == tab_.Rows() ? Eigen::VectorXd(beta_.head(nf_)) : Eigen::VectorXd::Zero(nf_);
+    result_.z = Eigen::VectorXd::Zero(n_);
+    return result_;
+  }
+
+  Tableau tab_;
+  int nf_, n_;
+  double tie_tolerance_;
+  std::vector<int> basic_;      // the variable basic at each position
+  Eigen::VectorXd beta_;        // their values
+  BasisInverse inverse_;
+  LemkeResult result_;
+};
+
+}  // namespace
+
+LemkeResult SolveMlcp(const Mlcp& problem, int max_pivots, double tie_tolerance) {
+  return Lemke(problem, tie_tolerance).Run(max_pivots);
+}
+
+}  // namespace unjam::lemke_internal

@@ -1,0 +1,60 @@
+// Lemke's complementary pivoting for a mixed linear complementarity problem, on sparse
+// LU factorisations (UMFPACK) with product-form updates. The numerical core of the
+// "lemke" backend (lemke.cpp), which poses the contact laws in this form.
+//
+// The problem: find free variables x (nf) and z ≥ 0, w ≥ 0 (n each) with
+//     x − P z = x0                      (nf rows: the velocities, e.g. v = v_free + M⁻¹Hᵀr)
+//     w = D x + E z + e,   wᵀz = 0     (n rows: the complementarity rows)
+// Lemke's method adds an artificial z₀ ≥ 0 with covering vector 1 on the complementarity
+// rows, starts from the basis (x, w) with z₀ as large as −min(e + D x0) and follows the
+// path of complementary bases until z₀ leaves. The free variables never leave the basis.
+//
+// Why pivoting: the exact 2D Coulomb law is an LCP (its cone is polyhedral), and on a
+// quasi-static perturbation of a hyperstatic packing the smooth methods stall on the
+// combinatorics of which contacts stick, slide or open (docs/backends.md). A pivoting path
+// settles that combinatorics exactly; each basis is solved to round-off.
+//
+// Degeneracy (many zero basic variables: contacts closed with zero force) is resolved by
+// the lexicographic rule, i.e. the perturbation e + (ε, ε², …); it prevents cycling in
+// exact arithmetic. In floating point, which rows tie is decided to a tolerance, and a
+// wrong decision can end the path on a ray or make it cycle: the caller retries with
+// another tolerance (lemke.cpp).
+// Termination on a ray (no blocking row) means the method found no solution: for a
+// copositive-plus matrix that proves the problem infeasible (Cottle, Pang & Stone 1992,
+// Thm 4.4.13), e.g. a prescribed motion that the rigid grains block.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace unjam::lemke_internal {
+
+struct Mlcp {
+  Eigen::SparseMatrix<double> p;   // nf × n
+  Eigen::VectorXd x0;              // nf
+  Eigen::SparseMatrix<double> d;   // n × nf
+  Eigen::SparseMatrix<double> e_matrix;  // n × n, the E above
+  Eigen::VectorXd e;               // n
+  int NumFree() const { return static_cast<int>(x0.size()); }
+  int NumComplementary() const { return static_cast<int>(e.size()); }
+};
+
+enum class LemkeOutcome { kSolved, kRay, kPivotLimit, kSingularBasis };
+const char* ToString(LemkeOutcome outcome);
+
+struct LemkeResult {
+  LemkeOutcome outcome = LemkeOutcome::kSingularBasis;
+  Eigen::VectorXd x;               // free variables
+  Eigen::VectorXd z;               // complementary variables
+  int pivots = 0;
+  int factorisations = 0;
+  std::string message;
+};
+
+// `tie_tolerance`: basic values within tie_tolerance × the largest one block together in the
+// ratio test (Harris), and are then ordered by the lexicographic rule.
+LemkeResult SolveMlcp(const Mlcp& problem, int max_pivots, double tie_tolerance);
+
+}  // namespace unjam::lemke_internal
