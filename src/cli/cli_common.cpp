@@ -30,7 +30,7 @@ SolverOptions SolverFlags::Resolve() const {
   o.sweep_order = SweepOrderFromString(order);
   o.nlopt_algorithm = NloptAlgorithmFromString(nlopt_algorithm);
   Validate(o);
-  MakeSolver(backend);  // throws for an unknown backend, listing the known ones
+  if (!(backend_may_be_auto && backend == "auto")) MakeSolver(backend);  // throws for an unknown one, listing the known ones
   return o;
 }
 

@@ -27,6 +27,7 @@ enum ExitCode : int {
 // Solver options as the CLI spells them, shared by every command that solves.
 struct SolverFlags {
   std::string backend = "nsgs";
+  bool backend_may_be_auto = false;  // "auto": the command picks (perturb)
   std::string order = "random";
   std::string nlopt_algorithm = "lbfgs";
   SolverOptions options;

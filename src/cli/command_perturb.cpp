@@ -31,8 +31,10 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_option("--dt", dt, "time step of the quasi-static perturbation step")->capture_default_str();
   a.add_option("--response-tol", response_tol, "solver tolerance as a fraction of xi (unless --tol)")->capture_default_str();
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
-  solver.backend = "newton";  // the default for responses of size ξ (PerturbationOptions)
+  solver.backend = "auto";  // newton without friction, lemke with it (PerturbationOptions)
+  solver.backend_may_be_auto = true;
   solver.Register(a);
+  a.get_option("--backend")->description("contact solver backend; auto: lemke on frictional packings (but newton at fixed volume), newton on frictionless ones");
   a.get_option("--tol")->description("the solver tolerance itself (default: set by --response-tol)")->default_str("");
   a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");
   a.add_flag("--json", json, "one JSON object on stdout");
@@ -264,8 +266,9 @@ void PrintSummary(const nlohmann::json& j) {
 
 int RunPerturb(const PerturbFlags& f) {
   const auto start = Clock::now();
-  const PerturbationOptions options = OptionsFrom(f);
+  PerturbationOptions options = OptionsFrom(f);
   const Scene scene = ReadPacking(f.file);
+  options.backend = PerturbationBackend(options, scene);
   if (scene.forces.empty()) {
     throw InputError(f.file, 0, "stores no static forces: run `unjam solve " + f.file + " -o FILE` first");
   }

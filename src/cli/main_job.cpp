@@ -123,6 +123,7 @@ int RunMainJob(const MainJobFlags& flags) {
 
   t = Clock::now();
   PerturbationOptions options;
+  options.backend = PerturbationBackend(options, scene);
   const PerturbationBase base = PreparePerturbations(scene, options);
   const std::vector<PerturbationTarget> targets = SampleTargets(ContactTargets(base), flags.sample, flags.seed);
   std::vector<Row> rows(targets.size());

@@ -26,6 +26,16 @@ CellCondition CellConditionFromString(const std::string& name) {
   throw std::invalid_argument("unknown cell condition '" + name + "' (known: fixed-pressure, fixed-volume)");
 }
 
+std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene) {
+  if (options.backend != "auto") return options.backend;
+  // At fixed volume the stress level of rigid grains in a frozen cell is itself free (any
+  // multiple of a self-stress balances), and Lemke's path from zero impulses ends on the
+  // unloaded solution (F_crit ≈ 0, docs/perturbations.md); newton's proximal steps stay
+  // nearest the static forces.
+  const bool fixed_volume = scene.effects.pressure_bath.has_value() && options.cell == CellCondition::kFixedVolume;
+  return scene.effects.Frictional() && !fixed_volume ? "lemke" : "newton";
+}
+
 void Validate(const PerturbationOptions& o) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument(what);
@@ -234,7 +244,7 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.dt = options.dt;
   solve.closed_gap_tolerance = options.closed_gap_tolerance;
   solve.margin = DetectionMargin(options);
-  solve.backend = options.backend;
+  solve.backend = PerturbationBackend(options, base.scene);
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);
   return solve;

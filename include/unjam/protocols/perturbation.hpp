@@ -40,9 +40,11 @@ struct PerturbationOptions {
   // count as exactly closed (well below ξ).
   double margin = 1e-6;
   double closed_gap_tolerance = 1e-12;
-  // Newton by default: a response of size ξ needs residuals near 1e-12, where NSGS is slow
-  // and, on frictionless packings, leaves δ biased by 2–4 % (docs/backends.md).
-  std::string backend = "newton";
+  // "auto" (PerturbationBackend): lemke on frictional packings, else newton.
+  // A response of size ξ needs residuals near 1e-12, where NSGS is slow and, on
+  // frictionless packings, leaves δ biased by 2–4 %; on frictional ones newton stalls near
+  // 1e-11 and Lemke's pivoting resolves them (docs/backends.md).
+  std::string backend = "auto";
   SolverOptions solver;                 // its tolerance is replaced, see SolverToleranceFor
   // Wanted accuracy of the displacements, as a fraction of ξ (see SolverToleranceFor).
   double response_tolerance = 1e-2;
@@ -53,6 +55,11 @@ struct PerturbationOptions {
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
 double DetectionMargin(const PerturbationOptions& options);
+// The backend a perturbation uses: options.backend, or for "auto" lemke on frictional
+// packings (it resolves the stick/slide combinatorics where newton stalls), newton on
+// frictionless ones (exact too, and 20× faster) and at fixed volume (where Lemke picks the
+// unloaded solution of a stress level that the frozen cell leaves free).
+std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene);
 
 // One perturbation's target: a contact (by key) or a particle and a shift direction.
 struct PerturbationTarget {
