@@ -177,7 +177,7 @@ int RunBounds(const BoundsFlags& f) {
                         {"bounded_contacts", widths}, {"unbounded_or_failed", failed},
                         {"mean_fcont", references > 0 ? nlohmann::json(reference_sum / references) : nlohmann::json(nullptr)},
                         {"no_frictionless_equilibrium", no_pure_opening},
-                        {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", report.lp_iterations},
+                        {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", report.lp_iterations}, {"lps_skipped", report.lps_skipped},
                         {"lp_seconds", report.seconds}, {"threads", lp == LpBackend::kIpopt ? 1 : threads}, {"seconds", seconds}};
   if (cmp) {
     out["compared"] = cmp->used;

@@ -63,6 +63,7 @@ Bound Outcome(ClpSimplex& model, double sign, double scale) {
 // CLP's start/finish options 1|2|4: keep the factorisation and work areas between solves
 // and reuse them; only the objective (or one bound) changes from one LP to the next.
 constexpr int kKeepFactorisation = 7;
+constexpr int kFactorizationFrequency = 100;
 
 // Runs one simplex. With `confirm`, an outcome other than optimal is confirmed from the
 // slack basis with the other simplex before it is believed: CLP's dual simplex has reported
@@ -152,26 +153,63 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
   const int threads = options.lp == LpBackend::kIpopt ? 1 : options.threads;
   const int blocks = std::max(1, std::min<int>(threads, static_cast<int>(contacts.size())));
   std::vector<long long> iterations(blocks, 0);
-  // Blocks of the spatial order; within a block all minima, then all maxima, then the
-  // maxima without friction: successive LPs differ least.
+  // Blocks of the spatial order; within a block all maxima, then the maxima without
+  // friction, then the minima: successive LPs differ least.
   const std::vector<int> order = SpatialOrder(system, contacts);
   for (std::size_t a = 0; a < contacts.size(); ++a) {
     report.bounds[a].contact = contacts[a];
     report.bounds[a].reference = reference.size() > 0 ? reference[stride * contacts[a]] : 0.0;
   }
+  std::vector<long long> skipped(blocks, 0);
   auto run_block = [&](int block) {
     ClpSimplex model(*base);
+    // Refactorise every 100 pivots instead of CLP's 200: the updates of the factors grow
+    // dense here, and the warm-started LPs ran 7-10 % faster for the same pivots (N=3000).
+    model.setFactorizationFrequency(kFactorizationFrequency);
     const std::size_t first = order.size() * block / blocks;
     const std::size_t last = order.size() * (block + 1) / blocks;
-    for (Kind kind : {Kind::kMin, Kind::kMax, Kind::kMaxWithoutFriction}) {
+    // What the optimal solutions of this block have shown (the shortcuts, see below).
+    std::vector<char> zero_seen(system.contacts.size(), 0);
+    std::vector<char> max_without_tangential(system.contacts.size(), 0);
+    auto record = [&](const ClpSimplex& m) {
+      const double* x = m.primalColumnSolution();
+      for (std::size_t k = 0; k < system.contacts.size(); ++k) {
+        if (x[stride * k] <= 0.0) zero_seen[k] = 1;
+      }
+    };
+    const bool shortcuts = options.shortcuts && options.lp == LpBackend::kClp;
+    if (shortcuts) record(model);
+    // Maxima first: their solutions, like every optimal one, are admissible networks, and
+    // the contacts they leave without force need no minimisation.
+    for (Kind kind : {Kind::kMax, Kind::kMaxWithoutFriction, Kind::kMin}) {
       if (kind == Kind::kMaxWithoutFriction && !system.frictional) {  // the same LP as max
         for (std::size_t a = first; a < last; ++a) report.bounds[order[a]].max_without_friction = report.bounds[order[a]].max;
         continue;
       }
       for (std::size_t a = first; a < last; ++a) {
         ContactBounds& b = report.bounds[order[a]];
-        const Bound bound = BoundOf(model, system, b.contact, kind, options, iterations[block]);
+        const int k = b.contact;
+        // Exact shortcuts. An admissible network with f_n,k = 0 exists: min f_n,k = 0. The
+        // maximising network carries no tangential force at k: it is also the maximum
+        // without friction (which is never larger).
+        if (shortcuts && kind == Kind::kMin && zero_seen[k]) {
+          b.min = Bound{BoundStatus::kOptimal, 0.0};
+          ++skipped[block];
+          continue;
+        }
+        if (shortcuts && kind == Kind::kMaxWithoutFriction && max_without_tangential[k]) {
+          b.max_without_friction = b.max;
+          ++skipped[block];
+          continue;
+        }
+        const Bound bound = BoundOf(model, system, k, kind, options, iterations[block]);
         (kind == Kind::kMin ? b.min : kind == Kind::kMax ? b.max : b.max_without_friction) = bound;
+        if (!shortcuts || !bound.ok()) continue;
+        record(model);
+        if (kind == Kind::kMax && system.frictional &&
+            std::abs(model.primalColumnSolution()[stride * k + 1]) <= options.lp_tolerance) {
+          max_without_tangential[k] = 1;
+        }
       }
     }
   };
@@ -183,6 +221,7 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
     for (std::thread& t : pool) t.join();
   }
   for (long long i : iterations) report.lp_iterations += i;
+  for (long long i : skipped) report.lps_skipped += i;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

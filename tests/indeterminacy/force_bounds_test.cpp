@@ -189,6 +189,44 @@ TEST(ForceBounds, WarmColdAndThreadedAgree) {
   }
 }
 
+// The shortcuts (an LP skipped when an earlier optimal network already answers it: a
+// contact seen without force has min 0; a maximum reached without tangential force is
+// also the maximum without friction) give the bounds of running every LP.
+TEST(ForceBounds, ShortcutsGiveTheBoundsOfEveryLp) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  // The contacts of a band along the bottom: neighbours, whose networks answer each other.
+  double low = s.contact_points[0].y(), high = low;
+  for (const Vec2& p : s.contact_points) {
+    low = std::min(low, p.y());
+    high = std::max(high, p.y());
+  }
+  std::vector<int> some;
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    if (s.contact_points[k].y() < low + 0.12 * (high - low)) some.push_back(static_cast<int>(k));
+  }
+  ASSERT_GT(some.size(), 50u);
+  BoundsOptions with, without;
+  without.shortcuts = false;
+  for (int threads : {1, 2}) {
+    with.threads = without.threads = threads;
+    const BoundsReport a = ComputeForceBounds(s, some, {}, with);
+    const BoundsReport b = ComputeForceBounds(s, some, {}, without);
+    ASSERT_TRUE(a.feasible && b.feasible);
+    EXPECT_GE(a.lps_skipped, 3);  // the shortcuts are taken (5 here)
+    EXPECT_EQ(b.lps_skipped, 0);
+    for (std::size_t k = 0; k < some.size(); ++k) {
+      for (const auto& [x, y] : {std::pair{a.bounds[k].min, b.bounds[k].min}, std::pair{a.bounds[k].max, b.bounds[k].max},
+                                 std::pair{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction}}) {
+        ASSERT_EQ(x.status, y.status) << "contact " << some[k];
+        if (x.ok()) {
+          EXPECT_NEAR(x.value, y.value, 1e-9 * s.force_scale) << "contact " << some[k];
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace unjam
 

@@ -49,6 +49,10 @@ struct BoundsOptions {
   bool warm_start = true;           // CLP: false = every LP from the slack basis (for comparison)
   double lp_tolerance = 1e-10;      // CLP primal and dual tolerances, Ipopt's tol; relative (forces / F)
   int threads = 1;                  // contacts split in contiguous blocks, one model each
+  // CLP: skip an LP whose answer an earlier optimal solution of the same block already
+  // proves (min f_n,k = 0 when a network with f_n,k = 0 was seen; max without friction =
+  // max when the maximising network has f_t,k = 0). false runs every LP (for comparison).
+  bool shortcuts = true;
 };
 
 // The ensemble itself is infeasible when the stored state is not static: checked once.
@@ -58,6 +62,7 @@ struct BoundsReport {
   std::string message;              // why not, when infeasible
   double seconds = 0.0;
   long long lp_iterations = 0;      // simplex iterations over all LPs
+  long long lps_skipped = 0;        // LPs answered by a shortcut (BoundsOptions::shortcuts)
 };
 
 // `contacts`: indices into system.contacts. `reference`: the system's unknowns (e.g. the
