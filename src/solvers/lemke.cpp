@@ -25,6 +25,7 @@
 // reported as a numerical failure with its cause.
 #include "lemke.hpp"
 #include "lemke_mlcp.hpp"
+#include "matrix_form.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -39,37 +40,8 @@ namespace {
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
-// The body or Delassus problem as matrices: v = v_free + G r, ũ = H v + offset.
-struct Kinematics {
-  int per_contact = 2;
-  SparseMatrix h;          // unknowns × dofs
-  SparseMatrix g;          // dofs × unknowns (M⁻¹Hᵀ, or W)
-  Eigen::VectorXd v_free;
-  Eigen::VectorXd offset;
-  std::vector<ContactLaw> laws;
-};
-
-Kinematics FromBodies(const ContactProblem& p) {
-  Kinematics k;
-  k.per_contact = p.UnknownsPerContact();
-  k.h = AssembleJacobian(p);
-  k.g = InverseMassDiagonal(p).asDiagonal() * k.h.transpose();
-  k.v_free = FreeVelocityVector(p);
-  k.offset = VelocityOffset(p);
-  for (const ProblemContact& c : p.contacts) k.laws.push_back({c.mu, c.kind});
-  return k;
-}
-
-Kinematics FromDelassus(const DelassusProblem& p) {
-  Kinematics k;
-  k.h.resize(p.NumUnknowns(), p.NumUnknowns());
-  k.h.setIdentity();
-  k.g = p.w;
-  k.v_free = p.q;
-  k.offset = Eigen::VectorXd::Zero(p.NumUnknowns());
-  k.laws = p.laws;
-  return k;
-}
+using solvers_internal::MatrixForm;
+using solvers_internal::MatrixFormOf;
 
 // The complementarity rows and variables of the contact laws (the table at the top).
 struct Encoding {
@@ -79,7 +51,7 @@ struct Encoding {
   int variables = 0;
 };
 
-Encoding Encode(const Kinematics& k) {
+Encoding Encode(const MatrixForm& k) {
   Encoding enc;
   for (int c = 0; c < static_cast<int>(k.laws.size()); ++c) {
     const int n = k.per_contact * c, t = n + 1, z = enc.variables;
@@ -109,7 +81,7 @@ SparseMatrix FromTriplets(int rows, int cols, const Triplets& t) {
 }
 
 template <class Problem>
-SolveResult SolveLemke(const Problem& problem, const Kinematics& k, const SolverOptions& o, const std::string& name) {
+SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
   const auto start = std::chrono::steady_clock::now();
   const Encoding enc = Encode(k);
   const int unknowns = static_cast<int>(k.h.rows());
@@ -160,13 +132,13 @@ SolveResult SolveLemke(const Problem& problem, const Kinematics& k, const Solver
 
 SolveResult LemkeSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
   Validate(options);
-  return SolveLemke(p, FromBodies(p), options, Name());
+  return SolveLemke(p, MatrixFormOf(p), options, Name());
 }
 
 SolveResult LemkeSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
   Validate(p);
   Validate(options);
-  return SolveLemke(p, FromDelassus(p), options, Name());
+  return SolveLemke(p, MatrixFormOf(p), options, Name());
 }
 
 }  // namespace unjam

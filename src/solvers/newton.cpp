@@ -39,6 +39,7 @@
 // Delassus form (ũ = W r + q, delassus_problem.hpp): the same system with H = I, M⁻¹Hᵀ = W
 // and v_free = q, so that v = q + W r is ũ itself; the NSGS warm-up is NSGS on W.
 #include "newton.hpp"
+#include "matrix_form.hpp"
 #include "nsgs.hpp"
 
 #include <algorithm>
@@ -108,43 +109,16 @@ LocalValue AlartCurnier(const ContactLaw& c, double rho, bool frictional,
   return out;
 }
 
-// Fixed data of the problem in matrix form: v = v_free + M⁻¹Hᵀ r, ũ = H v + offset.
-struct Operators {
-  int per_contact = 2;       // unknowns per contact
-  SparseMatrix h;            // NumUnknowns × NumDofs
-  SparseMatrix minv_ht;      // M⁻¹ Hᵀ
-  Eigen::VectorXd v_free;
-  Eigen::VectorXd offset;
+// Fixed data of the problem: its matrix form (matrix_form.hpp; g = M⁻¹Hᵀ, or W) and the
+// weights ρ of the residual.
+struct Operators : solvers_internal::MatrixForm {
   std::vector<double> rho;
-  std::vector<ContactLaw> laws;
-
-  int NumContacts() const { return static_cast<int>(laws.size()); }
-  int NumUnknowns() const { return static_cast<int>(h.rows()); }
-  int NumDofs() const { return static_cast<int>(h.cols()); }
 };
 
-Operators MakeOperators(const ContactProblem& p) {
+template <class Problem>
+Operators MakeOperators(const Problem& p) {
   Operators op;
-  op.per_contact = p.UnknownsPerContact();
-  op.h = AssembleJacobian(p);
-  op.minv_ht = InverseMassDiagonal(p).asDiagonal() * op.h.transpose();
-  op.v_free = FreeVelocityVector(p);
-  op.offset = VelocityOffset(p);
-  for (int k = 0; k < p.NumContacts(); ++k) {
-    op.rho.push_back(ResidualWeight(p, k));
-    op.laws.push_back({p.contacts[k].mu, p.contacts[k].kind});
-  }
-  return op;
-}
-
-Operators MakeOperators(const DelassusProblem& p) {
-  Operators op;
-  op.h.resize(p.NumUnknowns(), p.NumUnknowns());
-  op.h.setIdentity();
-  op.minv_ht = p.w;
-  op.v_free = p.q;
-  op.offset = Eigen::VectorXd::Zero(p.NumUnknowns());
-  op.laws = p.laws;
+  static_cast<solvers_internal::MatrixForm&>(op) = solvers_internal::MatrixFormOf(p);
   for (int k = 0; k < p.NumContacts(); ++k) op.rho.push_back(ResidualWeight(p, k));
   return op;
 }
@@ -159,7 +133,7 @@ struct Evaluation {
 Evaluation Evaluate(const Operators& op, const Eigen::VectorXd& r, const Eigen::VectorXd& center,
                     double epsilon) {
   const int m = op.per_contact;
-  const Eigen::VectorXd v = op.v_free + op.minv_ht * r;
+  const Eigen::VectorXd v = op.v_free + op.g * r;
   const Eigen::VectorXd u = op.h * v + op.offset;
   Evaluation e;
   e.phi.resize(r.size());
@@ -186,10 +160,10 @@ SparseMatrix NewtonMatrix(const Operators& op, const std::vector<LocalJacobian>&
   const int nu = op.NumUnknowns();
   const int m = op.per_contact;
   Triplets t;
-  t.reserve(nd + 3 * op.minv_ht.nonZeros() + 4 * nu);
+  t.reserve(nd + 3 * op.g.nonZeros() + 4 * nu);
   for (int i = 0; i < nd; ++i) t.emplace_back(i, i, 1.0);
-  for (int col = 0; col < op.minv_ht.outerSize(); ++col) {
-    for (SparseMatrix::InnerIterator it(op.minv_ht, col); it; ++it) {
+  for (int col = 0; col < op.g.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(op.g, col); it; ++it) {
       t.emplace_back(it.row(), nd + col, -it.value());
     }
   }
