@@ -22,6 +22,7 @@ void SolverFlags::Register(CLI::App& app) {
   app.add_option("--ipopt-iter", options.ipopt_max_iterations, "ipopt: interior-point iterations per convex solve")->capture_default_str();
   app.add_option("--nlopt-algorithm", nlopt_algorithm, "nlopt: lbfgs (bounded L-BFGS) or ccsaq")->capture_default_str();
   app.add_option("--nlopt-eval", options.nlopt_max_evaluations, "nlopt: objective evaluations per convex solve")->capture_default_str();
+  app.add_flag("--lemke-warm", options.lemke_warm_start, "lemke (experimental): first follow the homotopy from the warm start (the static forces), then the path from zero");
   app.add_flag("--require-converged", require_converged, "exit with code 3 if the solver did not converge");
 }
 

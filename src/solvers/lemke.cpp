@@ -74,6 +74,26 @@ Encoding Encode(const MatrixForm& k) {
   return enc;
 }
 
+// The guess of impulses r as complementarity variables: r_n = p − m, r_t = a − b with
+// a + b ≤ μ r_n (the part of r_t outside the cone is dropped), slip speeds zero.
+Eigen::VectorXd StartOf(const MatrixForm& k, const Eigen::VectorXd& r, int variables) {
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(variables);
+  int v = 0;
+  for (int c = 0; c < k.NumContacts(); ++c) {
+    const double rn = r[k.per_contact * c];
+    if (k.laws[c].kind == ConstraintKind::kBilateral) {
+      z[v] = std::max(rn, 0.0), z[v + 1] = std::max(-rn, 0.0), v += 2;
+    } else if (k.per_contact == 1 || k.laws[c].mu == 0.0) {
+      z[v] = std::max(rn, 0.0), v += 1;
+    } else {
+      const double bound = k.laws[c].mu * std::max(rn, 0.0);
+      const double rt = std::clamp(r[k.per_contact * c + 1], -bound, bound);
+      z[v] = std::max(rn, 0.0), z[v + 1] = std::max(rt, 0.0), z[v + 2] = std::max(-rt, 0.0), v += 4;
+    }
+  }
+  return z;
+}
+
 SparseMatrix FromTriplets(int rows, int cols, const Triplets& t) {
   SparseMatrix m(rows, cols);
   m.setFromTriplets(t.begin(), t.end());
@@ -93,20 +113,27 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   mlcp.d = s * k.h;
   mlcp.e_matrix = FromTriplets(enc.variables, enc.variables, enc.coupling);
   mlcp.e = s * k.offset;
-  // Tie tolerances tried in turn (lemke_mlcp.hpp): a path that ends on a ray, cycles or
-  // misses the tolerance is rerun with the next one. Each run is bounded by 3 pivots per
-  // complementarity row (a path that solves takes fewer than 2 here) and by the caller's
-  // max_iterations overall.
+  // Runs tried in turn: from the warm start (the problem's guess), then from zero
+  // impulses, each with tie tolerances 1e-16, then 1e-14 and 1e-12 (lemke_mlcp.hpp); a
+  // path that ends on a ray, cycles or misses the tolerance is followed by the next run.
+  // Each run is bounded by 3 pivots per complementarity row (a path that solves takes
+  // fewer than 2 here) and by the caller's max_iterations overall.
   const int per_run = std::min(o.max_iterations, 3 * enc.variables + 100);
   SolveResult result;
   SolveReport& report = result.report;
   report.backend = name;
   std::string history;
   int pivots = 0;
-  struct Tie { double value; const char* name; };
-  for (const Tie tie : {Tie{1e-16, "1e-16"}, Tie{1e-14, "1e-14"}, Tie{1e-12, "1e-12"}}) {
+  struct Run { double tie; const char* name; bool warm; };
+  std::vector<Run> runs;
+  const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
+                         problem.initial_guess.allFinite() && problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
+  if (has_guess) runs.insert(runs.end(), {{1e-16, "1e-16", true}, {1e-14, "1e-14", true}});
+  runs.insert(runs.end(), {{1e-16, "1e-16", false}, {1e-14, "1e-14", false}, {1e-12, "1e-12", false}});
+  for (const Run& run : runs) {
+    mlcp.start = run.warm ? StartOf(k, problem.initial_guess, enc.variables) : Eigen::VectorXd();
     const lemke_internal::LemkeResult lemke =
-        lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), tie.value);
+        lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);
     pivots += lemke.pivots;
     const Eigen::VectorXd impulses = t * lemke.z;
     const double residual = ComputeResidual(problem, impulses).residual;
@@ -117,8 +144,11 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
       report.status = !solved ? SolveStatus::kNumericalFailure
                       : residual <= o.tolerance ? SolveStatus::kConverged : SolveStatus::kNumericalFailure;
     }
-    history += (history.empty() ? "" : "; ") + std::string("ties ") + tie.name + ": " + (solved ? "solved" : lemke_internal::ToString(lemke.outcome)) + " after " +
-               std::to_string(lemke.pivots) + " pivots";
+    history += (history.empty() ? "" : "; ") + std::string(run.warm ? "warm" : "cold") + ", ties " + run.name + ": " +
+                (solved ? "solved, residual " + std::to_string(residual) : std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")") + " after " + std::to_string(lemke.pivots) + " pivots";
+    if (run.warm) {
+      history += " (start: " + std::to_string(lemke.start_support) + " basic, " + std::to_string(lemke.start_dropped) + " moves)";
+    }
     if (report.converged() || pivots >= o.max_iterations) break;
   }
   report.iterations = pivots;

@@ -41,11 +41,16 @@ class Tableau {
     for (int i = 0; i < n_; ++i) t.emplace_back(nf_ + i, nf_ + i, 1.0);
     AddBlock(t, p.p, 0, nf_ + n_, -1.0);
     AddBlock(t, p.e_matrix, nf_, nf_ + n_, -1.0);
-    for (int i = 0; i < n_; ++i) t.emplace_back(nf_ + i, Z0(), -1.0);
-    columns_.resize(Rows(), Z0() + 1);
+    columns_.resize(Rows(), Z0());
     columns_.setFromTriplets(t.begin(), t.end());
     rhs_.resize(Rows());
     rhs_ << p.x0, p.e;
+    SetCovering(Eigen::VectorXd::Ones(n_));
+  }
+  // z₀'s column is −d on the complementarity rows.
+  void SetCovering(const Eigen::VectorXd& d) {
+    z0_column_ = Eigen::VectorXd::Zero(Rows());
+    z0_column_.tail(n_) = -d;
   }
   int Rows() const { return nf_ + n_; }
   int Z0() const { return nf_ + 2 * n_; }
@@ -54,10 +59,16 @@ class Tableau {
   bool IsFree(int var) const { return var < nf_; }
   int Complement(int var) const { return var < nf_ + n_ ? var + n_ : var - n_; }
   const Eigen::VectorXd& Rhs() const { return rhs_; }
-  Eigen::VectorXd Column(int var) const { return Eigen::VectorXd(columns_.col(var)); }
+  Eigen::VectorXd Column(int var) const { return var == Z0() ? z0_column_ : Eigen::VectorXd(columns_.col(var)); }
   SparseMatrix Basis(const std::vector<int>& basic) const {
     std::vector<Eigen::Triplet<double>> t;
     for (int pos = 0; pos < Rows(); ++pos) {
+      if (basic[pos] == Z0()) {
+        for (int row = 0; row < Rows(); ++row) {
+          if (z0_column_[row] != 0.0) t.emplace_back(row, pos, z0_column_[row]);
+        }
+        continue;
+      }
       for (SparseMatrix::InnerIterator it(columns_, basic[pos]); it; ++it) t.emplace_back(it.row(), pos, it.value());
     }
     SparseMatrix b(Rows(), Rows());
@@ -72,7 +83,8 @@ class Tableau {
     }
   }
   int nf_, n_;
-  SparseMatrix columns_;
+  SparseMatrix columns_;  // all but z₀
+  Eigen::VectorXd z0_column_;
   Eigen::VectorXd rhs_;
 };
 
@@ -118,25 +130,25 @@ class BasisInverse {
 class Lemke {
  public:
   Lemke(const Mlcp& p, double tie_tolerance)
-      : tab_(p), nf_(p.NumFree()), n_(p.NumComplementary()), tie_tolerance_(tie_tolerance) {}
+      : problem_(p), tab_(p), nf_(p.NumFree()), n_(p.NumComplementary()), tie_tolerance_(tie_tolerance) {}
 
   LemkeResult Run(int max_pivots) {
     basic_.resize(tab_.Rows());
     for (int f = 0; f < nf_; ++f) basic_[f] = f;
     for (int i = 0; i < n_; ++i) basic_[nf_ + i] = tab_.W(i);
     if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the initial basis is singular");
-    int row = -1;
-    for (int i = 0; i < n_; ++i) {  // ties: the largest index (the perturbation ε^i is smallest)
-      if (row < 0 || beta_[nf_ + i] <= beta_[row]) row = nf_ + i;
+    if (n_ == 0) return Finish();
+    if (problem_.start.size() == n_ && problem_.start.maxCoeff() > 0.0 && !WarmStart()) {
+      return Fail(LemkeOutcome::kSingularBasis, "the warm start's basis is singular");
     }
-    if (n_ == 0 || beta_[row] >= 0.0) return Finish();
+    // β = B⁻¹ rhs are the basic values at z₀ = 0, and they rise by B⁻¹d per unit of z₀.
+    const Eigen::VectorXd rise = -inverse_.Solve(tab_.Column(tab_.Z0()));
+    int row = FirstBlockingRow(rise);
+    if (row == -2) return Fail(LemkeOutcome::kSingularBasis, "the covering vector does not cover the start");
+    if (row < 0) return Finish();
     int entering = tab_.Z0();
+    Eigen::VectorXd alpha = -rise;
     while (true) {
-      Eigen::VectorXd alpha = inverse_.Solve(tab_.Column(entering));
-      if (result_.pivots > 0) {
-        row = RatioTest(alpha);
-        if (row < 0) return Fail(LemkeOutcome::kRay, "ray termination: no complementary solution on the path");
-      }
       const int leaving = basic_[row];
       Pivot(row, entering, std::move(alpha));
       if (leaving == tab_.Z0()) return Finish();
@@ -145,10 +157,130 @@ class Lemke {
         return Fail(LemkeOutcome::kSingularBasis, "a basis became numerically singular");
       }
       entering = tab_.Complement(leaving);
+      alpha = inverse_.Solve(tab_.Column(entering));
+      row = RatioTest(alpha);
+      if (row < 0) return Fail(LemkeOutcome::kRay, "ray termination: no complementary solution on the path");
     }
   }
 
  private:
+  // The row where z₀ enters: the basic variable that reaches zero last as z₀ decreases
+  // (from +∞ on a cold start, from 1 on a warm one); ties go to the largest index (the
+  // perturbation ε^i is smallest). −1: the basis is already feasible at z₀ = 0; −2: a
+  // negative value that z₀ does not lift (the covering vector is wrong).
+  int FirstBlockingRow(const Eigen::VectorXd& rise) const {
+    int row = -1;
+    double level = 0.0;
+    for (int pos = nf_; pos < tab_.Rows(); ++pos) {
+      if (beta_[pos] >= 0.0) continue;
+      if (rise[pos] <= 0.0) return -2;
+      const double z0 = -beta_[pos] / rise[pos];
+      if (row < 0 || z0 >= level) row = pos, level = z0;
+    }
+    return row;
+  }
+
+  // Reduces the guess to a basic point and sets the covering vector (lemke_mlcp.hpp).
+  // Components enter the basis largest first, each in place of its complement; one whose
+  // column depends on those already in moves its value onto them along the dependency
+  // (a self-stress: the velocities stay) until it or one of them reaches zero.
+  bool WarmStart() {
+    Eigen::VectorXd z = problem_.start.cwiseMax(0.0);
+    const double floor = 1e-12 * z.maxCoeff();
+    std::vector<int> order;
+    for (int i = 0; i < n_; ++i) {
+      if (z[i] > floor) order.push_back(i); else z[i] = 0.0;
+    }
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return z[a] > z[b]; });
+    std::vector<int> position(tab_.Z0() + 1, -1);
+    for (int pos = 0; pos < tab_.Rows(); ++pos) position[basic_[pos]] = pos;
+    auto exchange = [&](int pos, int var, Eigen::VectorXd column) {
+      position[basic_[pos]] = -1;
+      basic_[pos] = var;
+      position[var] = pos;
+      inverse_.Update(pos, std::move(column));
+    };
+    const Eigen::VectorXd diagonal = DiagonalOfM();
+    for (const int j : order) {
+      while (z[j] > 0.0) {
+        Eigen::VectorXd alpha = inverse_.Solve(tab_.Column(tab_.Z(j)));
+        const int at = position[tab_.W(j)];
+        // A column counts as dependent below 1e-6 of its diagonal: dependent columns come
+        // out at up to 1e-8 (round-off of the factorisation), and one accepted at that
+        // level leaves a singular basis. A small pivot is decided on a fresh
+        // factorisation and not left as an update to amplify the next ones' errors.
+        const bool small = std::abs(alpha[at]) < 1e-3 * std::abs(diagonal[j]);
+        if (small && inverse_.Updates() > 0) {
+          if (!Refactorise()) return false;
+          alpha = inverse_.Solve(tab_.Column(tab_.Z(j)));
+        }
+        if (std::abs(alpha[at]) > 1e-6 * std::abs(diagonal[j])) {
+          exchange(at, tab_.Z(j), alpha);
+          if (small && !Refactorise()) return false;
+          break;
+        }
+        // Lowering z_j by θ raises the basic values by θα; the basic z stay ≥ 0.
+        double theta = z[j];
+        int limit = -1;
+        for (int pos = nf_; pos < tab_.Rows(); ++pos) {
+          const int var = basic_[pos];
+          if (var < tab_.Z(0) || alpha[pos] >= 0.0) continue;
+          const double reach = z[var - tab_.Z(0)] / -alpha[pos];
+          if (reach < theta) theta = reach, limit = pos;
+        }
+        z[j] -= theta;
+        for (int pos = nf_; pos < tab_.Rows(); ++pos) {
+          const int var = basic_[pos];
+          if (var >= tab_.Z(0)) z[var - tab_.Z(0)] = std::max(0.0, z[var - tab_.Z(0)] + theta * alpha[pos]);
+        }
+        ++result_.start_dropped;
+        if (limit < 0) {
+          z[j] = 0.0;
+          break;
+        }
+        const int out = basic_[limit] - tab_.Z(0);
+        z[out] = 0.0;
+        Eigen::VectorXd column = inverse_.Solve(tab_.Column(tab_.W(out)));
+        if (std::abs(column[limit]) < 1e-12) return false;
+        exchange(limit, tab_.W(out), std::move(column));
+      }
+      if (inverse_.Updates() >= kRefactorInterval && !Refactorise()) return false;
+    }
+    for (int pos = nf_; pos < tab_.Rows(); ++pos) result_.start_support += basic_[pos] >= tab_.Z(0);
+    SetCoveringFrom(z);
+    return Refactorise();
+  }
+
+  // d = w̄ − w(z̄): w̄ = 0 where z is basic, elsewhere w itself or, where w is below τ,
+  // τ (the largest |w| that the basic rows carry: the size of the perturbation).
+  void SetCoveringFrom(const Eigen::VectorXd& z) {
+    const Eigen::VectorXd x = problem_.x0 + problem_.p * z;
+    const Eigen::VectorXd w = problem_.d * x + problem_.e_matrix * z + problem_.e;
+    std::vector<char> z_basic(n_, 0);
+    for (int pos = nf_; pos < tab_.Rows(); ++pos) {
+      if (basic_[pos] >= tab_.Z(0)) z_basic[basic_[pos] - tab_.Z(0)] = 1;
+    }
+    double tau = 0.0;
+    for (int i = 0; i < n_; ++i) {
+      if (z_basic[i]) tau = std::max(tau, std::abs(w[i]));
+    }
+    tau = tau > 0.0 ? 1.0 * tau : w.size() > 0 && w.cwiseAbs().maxCoeff() > 0.0 ? 1e-12 * w.cwiseAbs().maxCoeff() : 1.0;
+    Eigen::VectorXd d(n_);
+    for (int i = 0; i < n_; ++i) d[i] = z_basic[i] ? -w[i] : std::max(w[i], tau) - w[i];
+    tab_.SetCovering(d);
+  }
+
+  // M = D P + E, the LCP matrix once the free variables are eliminated; only its diagonal
+  // is formed (M itself is dense under a pressure bath).
+  Eigen::VectorXd DiagonalOfM() const {
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> d_rows = problem_.d;
+    Eigen::VectorXd diagonal = problem_.e_matrix.diagonal();
+    for (int j = 0; j < n_; ++j) {
+      for (SparseMatrix::InnerIterator it(problem_.p, j); it; ++it) diagonal[j] += d_rows.coeff(j, it.row()) * it.value();
+    }
+    return diagonal;
+  }
+
   bool Refactorise() {
     ++result_.factorisations;
     if (!inverse_.Factorise(tab_.Basis(basic_))) return false;
@@ -157,7 +289,7 @@ class Lemke {
   }
 
   void Pivot(int row, int entering, Eigen::VectorXd alpha) {
-    // (The first pivot, z₀ entering, has α = −1 and β < 0 in its row.)
+    // (The first pivot, z₀ entering, has α < 0 and β < 0 in its row.)
     const double t = alpha[row] > 0.0 ? std::max(beta_[row], 0.0) / alpha[row] : beta_[row] / alpha[row];
     beta_ -= t * alpha;
     beta_[row] = t;
@@ -238,6 +370,7 @@ class Lemke {
     return result_;
   }
 
+  const Mlcp& problem_;
   Tableau tab_;
   int nf_, n_;
   double tie_tolerance_;

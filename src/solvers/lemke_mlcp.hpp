@@ -19,6 +19,17 @@
 // exact arithmetic. In floating point, which rows tie is decided to a tolerance, and a
 // wrong decision can end the path on a ray or make it cycle: the caller retries with
 // another tolerance (lemke.cpp).
+// Warm start (Mlcp::start, a guess z* ≥ 0, e.g. the static impulses of the state being
+// perturbed). The guess is first reduced to a basic point: moving along dependencies
+// among the columns of its support (self-stresses: the velocities x do not change), the
+// smallest components are zeroed until the support is independent. The covering vector
+// is then d = w̄ − (D x̄ + E z̄ + e), with w̄ = 0 on the rows of the support and w̄ > 0
+// elsewhere, so that at z₀ = 1 the reduced guess is the solution of the complementary
+// basis of its support. Lemke's path from there, z₀ from 1 to 0, is the homotopy from
+// that problem to the given one: it follows the guess's active set and changes it only
+// where the perturbation requires, and it ends on the solution continuous with the
+// guess rather than on the one reached from zero impulses.
+//
 // Termination on a ray (no blocking row) means the method found no solution: for a
 // copositive-plus matrix that proves the problem infeasible (Cottle, Pang & Stone 1992,
 // Thm 4.4.13), e.g. a prescribed motion that the rigid grains block.
@@ -37,6 +48,7 @@ struct Mlcp {
   Eigen::SparseMatrix<double> d;   // n × nf
   Eigen::SparseMatrix<double> e_matrix;  // n × n, the E above
   Eigen::VectorXd e;               // n
+  Eigen::VectorXd start;           // n or empty: a warm start z* ≥ 0 (above)
   int NumFree() const { return static_cast<int>(x0.size()); }
   int NumComplementary() const { return static_cast<int>(e.size()); }
 };
@@ -50,6 +62,8 @@ struct LemkeResult {
   Eigen::VectorXd z;               // complementary variables
   int pivots = 0;
   int factorisations = 0;
+  int start_support = 0;           // warm start: complementary variables of the reduced guess
+  int start_dropped = 0;           //   and those of the guess zeroed to reach it
   std::string message;
 };
 

@@ -61,6 +61,9 @@ struct SolverOptions {
   // solve (NLopt's maxeval; one evaluation is two sparse products with the Jacobian).
   NloptAlgorithm nlopt_algorithm = NloptAlgorithm::kLbfgs;
   int nlopt_max_evaluations = 200000;
+  // lemke: first follow the homotopy from the problem's initial_guess (lemke_mlcp.hpp),
+  // then the cold path from zero impulses. Experimental: off by default.
+  bool lemke_warm_start = false;
 };
 // Throws std::invalid_argument naming the option, the value and the rule.
 void Validate(const SolverOptions& options);
