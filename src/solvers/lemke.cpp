@@ -128,10 +128,11 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   std::vector<Run> runs;
   const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
                          problem.initial_guess.allFinite() && problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
+  const Eigen::VectorXd guess = has_guess ? StartOf(k, problem.initial_guess, enc.variables) : Eigen::VectorXd();
   if (has_guess) runs.insert(runs.end(), {{1e-16, "1e-16", true}, {1e-14, "1e-14", true}});
   runs.insert(runs.end(), {{1e-16, "1e-16", false}, {1e-14, "1e-14", false}, {1e-12, "1e-12", false}});
   for (const Run& run : runs) {
-    mlcp.start = run.warm ? StartOf(k, problem.initial_guess, enc.variables) : Eigen::VectorXd();
+    mlcp.start = run.warm ? guess : Eigen::VectorXd();
     const lemke_internal::LemkeResult lemke =
         lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);
     pivots += lemke.pivots;
@@ -145,7 +146,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
                       : residual <= o.tolerance ? SolveStatus::kConverged : SolveStatus::kNumericalFailure;
     }
     history += (history.empty() ? "" : "; ") + std::string(run.warm ? "warm" : "cold") + ", ties " + run.name + ": " +
-                (solved ? "solved, residual " + std::to_string(residual) : std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")") + " after " + std::to_string(lemke.pivots) + " pivots";
+               (solved ? std::string("solved") : std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")") + " after " + std::to_string(lemke.pivots) + " pivots";
     if (run.warm) {
       history += " (start: " + std::to_string(lemke.start_support) + " basic, " + std::to_string(lemke.start_dropped) + " moves)";
     }

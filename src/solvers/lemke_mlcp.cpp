@@ -264,7 +264,7 @@ class Lemke {
     for (int i = 0; i < n_; ++i) {
       if (z_basic[i]) tau = std::max(tau, std::abs(w[i]));
     }
-    tau = tau > 0.0 ? 1.0 * tau : w.size() > 0 && w.cwiseAbs().maxCoeff() > 0.0 ? 1e-12 * w.cwiseAbs().maxCoeff() : 1.0;
+    tau = tau > 0.0 ? tau : w.size() > 0 && w.cwiseAbs().maxCoeff() > 0.0 ? 1e-12 * w.cwiseAbs().maxCoeff() : 1.0;
     Eigen::VectorXd d(n_);
     for (int i = 0; i < n_; ++i) d[i] = z_basic[i] ? -w[i] : std::max(w[i], tau) - w[i];
     tab_.SetCovering(d);
