@@ -3,8 +3,10 @@
 # measure). Long: hours on one core at N = 8000. Sizes in the outer loop, so that an
 # interrupted run has both μ up to some N. Results are appended to
 # bench/results/packing-vs-n.csv as they come (a rerun skips rows already there), and the
-# growth exponent of the cost is fitted at the end.
-# Usage: scripts/bench-packing.sh [BUILD_DIR] [N ...]
+# growth exponent of the cost is fitted at the end. STEP_ITER (default 500) caps the NSGS
+# sweeps per dynamics step; large frictional cells need 2000 (docs/performance.md). Each run
+# checkpoints into bench/results/work/ (git-ignored), so an interrupted run resumes there.
+# Usage: [STEP_ITER=2000] scripts/bench-packing.sh [BUILD_DIR] [N ...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 unjam="${1:-$root/build}/unjam"
@@ -12,18 +14,21 @@ shift || true
 [ $# -gt 0 ] && sizes=("$@") || sizes=(500 1000 2000 4000 8000)
 out="$root/bench/results/packing-vs-n.csv"
 mkdir -p "$(dirname "$out")"
-[ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed" >"$out"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+[ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed,step_iter" >"$out"
+step_iter="${STEP_ITER:-500}"
+work="$root/bench/results/work"
+mkdir -p "$work"
 for n in "${sizes[@]}"; do
   for mu in 0.1 1; do
     grep -q "^$n,$mu," "$out" && continue
-    "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 -o "$work/p.unjam" --json --quiet >"$work/p.json" || true
-    /usr/bin/python3 - "$work/p.json" "$n" "$mu" >>"$out" <<'PY'
+    run="$work/n$n-mu$mu-s$step_iter"
+    "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 --step-iter "$step_iter" \
+      -o "$run.unjam" --json --quiet >"$run.json" || true
+    /usr/bin/python3 - "$run.json" "$n" "$mu" "$step_iter" >>"$out" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 print(f"{sys.argv[2]},{sys.argv[3]},{d['seconds']:.2f},{d['steps']},{d['static_checks']},"
-      f"{d['packing_fraction']:.5f},{d['coordination']:.4f},{str(d['jammed']).lower()}")
+      f"{d['packing_fraction']:.5f},{d['coordination']:.4f},{str(d['jammed']).lower()},{sys.argv[4]}")
 PY
     tail -n 1 "$out"
   done
