@@ -55,8 +55,18 @@ if summary["fcrit_tail_scale"]:
     a1.plot(x, frac / s * np.exp(-(x - 1) / s), "-", label=f"tail scale {s:.2f} ± {summary['fcrit_tail_scale_error']:.2f}")
     a1.legend()
 a1.set_xlabel("F_crit / ⟨F_crit⟩"); a1.set_ylabel("probability density"); a1.set_title("distribution of F_crit")
-a2.loglog(fr, fc, ".", ms=3)
-lim = [min(fr.min(), fc.min()), max(fr.max(), fc.max())]
+# Linear axes: a frictional packing has quasi-static openings held at zero force.
+a2.plot(fr, fc, ".", ms=3, label=f"quasi-static ({len(fc)})")
+top = max(fr.max(), fc.max())
+# Dynamic responses (the packing yields): their F_crit is the first step of a motion, not
+# a critical force; shown apart so that the two kinds are not mixed up.
+dyn = [p for p in rows("perturbations.csv") if p["status"] == "dynamic" and p["rattler"] == "0"]
+if dyn:
+    dr = np.array([num(p["f_reference"]) for p in dyn]); dc = np.array([num(p["f_crit"]) for p in dyn])
+    a2.plot(dr, dc, "x", ms=3, color="0.6", label=f"dynamic ({len(dyn)})")
+    a2.legend(fontsize=8)
+    top = max(top, dr.max(), dc.max())
+lim = [0, top]
 a2.plot(lim, lim, "k--", lw=0.8)
 a2.set_xlabel(summary["reference"]); a2.set_ylabel("F_crit"); a2.set_title("F_crit against the static force")
 fig.tight_layout(); fig.savefig(f"{prefix}-fcrit.png", dpi=110)

@@ -312,6 +312,7 @@ int RunPerturb(const PerturbFlags& f) {
       std::fprintf(stderr, "perturb [%d/%d] %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n",
                    static_cast<int>(records.size()) + 1, total, TargetName(r.target).c_str(), r.f_crit, r.f_reference,
                    r.penetration_depth, r.status.c_str(), r.solve.iterations, r.solve.residual, r.seconds);
+      if (!r.resolved) std::fprintf(stderr, "  %s\n", r.solve.message.c_str());
     }
     records.emplace(k, std::move(record));
   });

@@ -49,6 +49,7 @@ nlohmann::json ToJson(const ReducedResponse& r) {
           {"pressure_change", r.pressure_change}, {"inertia_ratio", r.inertia_ratio},
           {"equilibrium_residual", r.equilibrium_residual}, {"residual", r.residual},
           {"seconds", r.seconds}, {"iterations", r.iterations}, {"status", r.status},
+          {"message", r.message},
           {"rattler", r.rattler},
           {"displacement_profile", WithNulls(r.displacement_profile)},
           {"force_profile", WithNulls(r.force_profile)},
@@ -72,6 +73,7 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.seconds = j.at("seconds").get<double>();
     r.iterations = j.at("iterations").get<int>();
     r.status = j.at("status").get<std::string>();
+    r.message = j.value("message", std::string());  // absent in records of earlier versions
     r.rattler = j.at("rattler").get<bool>();
     r.displacement_profile = FromNulls(j.at("displacement_profile"));
     r.force_profile = FromNulls(j.at("force_profile"));

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/UmfPackSupport>
@@ -14,6 +16,7 @@ const char* ToString(LemkeOutcome outcome) {
   switch (outcome) {
     case LemkeOutcome::kSolved: return "solved";
     case LemkeOutcome::kRay: return "ray";
+    case LemkeOutcome::kCycle: return "cycle";
     case LemkeOutcome::kPivotLimit: return "pivot-limit";
     case LemkeOutcome::kSingularBasis: return "singular-basis";
   }
@@ -152,6 +155,8 @@ class Lemke {
       const int leaving = basic_[row];
       Pivot(row, entering, std::move(alpha));
       if (leaving == tab_.Z0()) return Finish();
+      basis_hash_ ^= VariableKey(leaving) ^ VariableKey(entering);
+      if (++visits_[basis_hash_] > kVisitsOfACycle) return Fail(LemkeOutcome::kCycle, "a basis came back 20 times: the path cycles");
       if (result_.pivots >= max_pivots) return Fail(LemkeOutcome::kPivotLimit, "pivot limit reached");
       if (inverse_.Updates() >= kRefactorInterval && !Refactorise()) {
         return Fail(LemkeOutcome::kSingularBasis, "a basis became numerically singular");
@@ -281,6 +286,16 @@ class Lemke {
     return diagonal;
   }
 
+  // Zobrist keys (splitmix64 of the variable's index): the basis's hash is the XOR of the
+  // keys of its variables, so a pivot updates it in O(1). A collision among the at most
+  // 10⁶ bases of a run has probability below 10⁻⁷.
+  static std::uint64_t VariableKey(int variable) {
+    std::uint64_t x = static_cast<std::uint64_t>(variable) + 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+  }
+
   bool Refactorise() {
     ++result_.factorisations;
     if (!inverse_.Factorise(tab_.Basis(basic_))) return false;
@@ -374,6 +389,12 @@ class Lemke {
   Tableau tab_;
   int nf_, n_;
   double tie_tolerance_;
+  std::uint64_t basis_hash_ = 0;  // of the bases after z₀ entered (the start's is not needed)
+  // Visits per basis. In floating point a path may pass a basis twice and then leave it
+  // another way (its values differ by round-off, so the ties fall differently), and go
+  // on to a solution; kVisitsOfACycle visits are taken as a cycle.
+  static constexpr int kVisitsOfACycle = 20;
+  std::unordered_map<std::uint64_t, int> visits_;
   std::vector<int> basic_;      // the variable basic at each position
   Eigen::VectorXd beta_;        // their values
   BasisInverse inverse_;

@@ -18,7 +18,9 @@
 // the lexicographic rule, i.e. the perturbation e + (ε, ε², …); it prevents cycling in
 // exact arithmetic. In floating point, which rows tie is decided to a tolerance, and a
 // wrong decision can end the path on a ray or make it cycle: the caller retries with
-// another tolerance (lemke.cpp).
+// another tolerance (lemke.cpp). A cycle is detected when a basis keeps coming back
+// (a 64-bit hash of the set of basic variables, updated at every pivot), so that a cycling
+// path stops soon instead of running to the pivot limit.
 // Warm start (Mlcp::start, a guess z* ≥ 0, e.g. the static impulses of the state being
 // perturbed). The guess is first reduced to a basic point: moving along dependencies
 // among the columns of its support (self-stresses: the velocities x do not change), the
@@ -53,7 +55,7 @@ struct Mlcp {
   int NumComplementary() const { return static_cast<int>(e.size()); }
 };
 
-enum class LemkeOutcome { kSolved, kRay, kPivotLimit, kSingularBasis };
+enum class LemkeOutcome { kSolved, kRay, kCycle, kPivotLimit, kSingularBasis };
 const char* ToString(LemkeOutcome outcome);
 
 struct LemkeResult {

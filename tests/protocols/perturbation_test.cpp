@@ -221,5 +221,25 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
   EXPECT_LT(std::abs(v.pressure_change / base.pressure), 0.05);
 }
 
+// Lemke's paths on a pile take up the gravity load of every contact from zero impulses:
+// up to 7.5 pivots per complementarity row on these shifts. A per-run bound of 3 per row
+// left 6 of the 10 top shifts unresolved; every shift must be resolved (quasi-static or
+// dynamic), and pushing a grain down into the pile or up off its support takes a force.
+TEST(Perturbation, LemkeResolvesEveryShiftOfTheSmallPile) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  std::vector<PerturbationTarget> targets = TopTargets(base);
+  const std::vector<PerturbationTarget> bottom = BottomTargets(base);
+  targets.insert(targets.end(), bottom.begin(), bottom.end());
+  ASSERT_EQ(targets.size(), 20u);
+  for (const PerturbationTarget& t : targets) {
+    const PerturbationResult r = Perturb(base, t, o);
+    EXPECT_TRUE(r.resolved) << t.i << ": " << r.solve.message;
+    EXPECT_EQ(r.solve.backend, "lemke");
+    EXPECT_GT(r.f_crit, 0.0) << t.i;
+  }
+}
+
 }  // namespace
 }  // namespace unjam

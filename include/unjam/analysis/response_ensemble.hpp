@@ -56,6 +56,7 @@ struct ReducedResponse {
   double inertia_ratio = 0.0, equilibrium_residual = 0.0, residual = 0.0, seconds = 0.0;
   int iterations = 0;
   std::string status;                   // "ok", "not-converged", "dynamic"
+  std::string message;                  // the solver's account of its run (why it stopped)
   bool rattler = false;                 // upward shift that needed no force
   bool Used() const { return status == "ok" && !rattler; }
   std::vector<double> displacement_profile;  // mean |d|/ξ per radial bin (NaN: empty bin)
