@@ -214,6 +214,7 @@ EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const Res
   for (const ReducedResponse& r : records) {
     if (r.status == "not-converged") ++out.not_converged;
     if (r.status == "dynamic") ++out.dynamic;
+    if (r.status == "blocked") ++out.blocked;
     if (r.status == "ok" && r.rattler) ++out.rattlers;
     if (!r.Used()) continue;
     used.push_back(&r);

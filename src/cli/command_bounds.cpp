@@ -63,9 +63,25 @@ std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, con
 struct Comparison {
   std::vector<double> f_crit;        // NaN where the perturbation has no usable response
   std::vector<std::string> status;
+  // Per contact: 1 if the quasi-static F_crit lies in [LP min, LP max without friction],
+  // 0 if not, −1 where that does not apply (no quasi-static F_crit, or no such interval).
+  std::vector<int> inside;
   int used = 0;
+  int quasi_static = 0, dynamic = 0, inside_interval = 0, outside_interval = 0;
   double mean_rel_diff = std::nan(""), max_rel_diff = std::nan("");
 };
+
+// A static opening is held by a network in which the opened contact carries no tangential
+// force, so its F_crit must lie in [min, max without friction] (docs/indeterminacy.md,
+// "Comparison with simulation"). −1: no quasi-static F_crit, or the pure-opening LP has no
+// optimum (then a quasi-static F_crit is outside by definition: 0).
+int InsideInterval(const ContactBounds& b, const PerturbationResult& r) {
+  if (!r.ok()) return -1;
+  if (!b.min.ok() || !b.max_without_friction.ok()) return 0;
+  // Both sides carry the LP's and the perturbation's tolerances, about 1e-6 relative.
+  const double tol = 1e-6 * (std::abs(b.max_without_friction.value) + b.reference);
+  return r.f_crit >= b.min.value - tol && r.f_crit <= b.max_without_friction.value + tol ? 1 : 0;
+}
 
 Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, const BoundsReport& report,
                                 const BoundsFlags& f, int threads) {
@@ -84,10 +100,16 @@ Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, 
   Comparison out;
   out.f_crit.assign(targets.size(), std::nan(""));
   out.status.assign(targets.size(), "");
+  out.inside.assign(targets.size(), -1);
   double sum = 0.0, worst = 0.0;
   PerturbAll(base, targets, o, threads, [&](int k, const PerturbationResult& r) {
     out.status[k] = r.status;
+    out.inside[k] = InsideInterval(report.bounds[k], r);
+    out.dynamic += r.status == "dynamic";
+    out.inside_interval += out.inside[k] == 1;
+    out.outside_interval += out.inside[k] == 0;
     if (!r.ok()) return;
+    ++out.quasi_static;
     out.f_crit[k] = r.f_crit;
     const Bound& max = report.bounds[k].max;
     if (!max.ok() || max.value == 0.0) return;
@@ -110,7 +132,7 @@ std::string Number(const Bound& b) { return b.ok() ? Exact(b.value) : ""; }
 std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Comparison* cmp) {
   std::ostringstream os;
   os << "contact,i,j,image_x,image_y,f_cont,min,max,max_without_friction,status_min,status_max,status_without_friction";
-  if (cmp) os << ",f_crit,perturbation_status";
+  if (cmp) os << ",f_crit,perturbation_status,inside_interval";
   os << "\n";
   for (std::size_t a = 0; a < r.bounds.size(); ++a) {
     const ContactBounds& b = r.bounds[a];
@@ -119,7 +141,7 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
        << Number(b.min) << ',' << Number(b.max) << ',' << Number(b.max_without_friction) << ','
        << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << ToString(b.max_without_friction.status);
     if (cmp) {
-      os << ',' << Exact(cmp->f_crit[a]) << ',' << cmp->status[a];
+      os << ',' << Exact(cmp->f_crit[a]) << ',' << cmp->status[a] << ',' << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
     }
     os << "\n";
   }
@@ -183,6 +205,10 @@ int RunBounds(const BoundsFlags& f) {
     out["compared"] = cmp->used;
     out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
     out["max_rel_diff_fcrit"] = NumberOrNull(cmp->max_rel_diff);
+    out["quasi_static"] = cmp->quasi_static;
+    out["dynamic"] = cmp->dynamic;
+    out["inside_interval"] = cmp->inside_interval;
+    out["outside_interval"] = cmp->outside_interval;
   }
   if (!f.output.empty()) out["output"] = f.output;
   if (f.json) {
@@ -193,7 +219,11 @@ int RunBounds(const BoundsFlags& f) {
     std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n", nd.dimension, nd.unknowns, nd.rank, nd.tolerance);
     if (nd.rank_transposed != nd.rank_of_a) std::printf("                   (QR estimates of the rank: %d from A, %d from its transpose)\n", nd.rank_of_a, nd.rank_transposed);
     if (widths > 0) std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n", width_sum / widths, widths, failed);
-    if (cmp) std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
+    if (cmp) {
+      std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
+      std::printf("openings           %d quasi-static (%d inside [LP min, LP max without friction], %d outside), %d dynamic\n",
+                  cmp->quasi_static, cmp->inside_interval, cmp->outside_interval, cmp->dynamic);
+    }
     std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
   }
   return report.feasible ? kOk : kNotConverged;

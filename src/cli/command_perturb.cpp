@@ -228,7 +228,7 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
       {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
       {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
-      {"dynamic", s.dynamic}, {"rattlers", s.rattlers},
+      {"dynamic", s.dynamic}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
       {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
       {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},
       {"reference", shift ? "F_y (effective weight)" : "F_cont"},
@@ -249,8 +249,8 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
 
 void PrintSummary(const nlohmann::json& j) {
   auto num = [&](const char* key) { return j[key].is_null() ? std::string("n/a") : Format("%.6g", j[key].get<double>()); };
-  std::printf("perturbations      %d (used %d, not converged %d, dynamic %d, rattlers %d)\n", j["perturbations"].get<int>(),
-              j["used"].get<int>(), j["not_converged"].get<int>(), j["dynamic"].get<int>(), j["rattlers"].get<int>());
+  std::printf("perturbations      %d (used %d, not converged %d, dynamic %d, blocked %d, rattlers %d)\n", j["perturbations"].get<int>(),
+              j["used"].get<int>(), j["not_converged"].get<int>(), j["dynamic"].get<int>(), j["blocked"].get<int>(), j["rattlers"].get<int>());
   std::printf("mode               %s, gap %.3g, dt %.3g, tolerance %.3g (%s)\n", j["mode"].get<std::string>().c_str(),
               j["gap"].get<double>(), j["dt"].get<double>(), j["tolerance"].get<double>(), j["backend"].get<std::string>().c_str());
   std::printf("<F_crit>           %s +- %s\n", num("mean_fcrit").c_str(), num("mean_fcrit_error").c_str());
@@ -312,7 +312,7 @@ int RunPerturb(const PerturbFlags& f) {
       std::fprintf(stderr, "perturb [%d/%d] %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n",
                    static_cast<int>(records.size()) + 1, total, TargetName(r.target).c_str(), r.f_crit, r.f_reference,
                    r.penetration_depth, r.status.c_str(), r.solve.iterations, r.solve.residual, r.seconds);
-      if (!r.resolved) std::fprintf(stderr, "  %s\n", r.solve.message.c_str());
+      if (!r.resolved) std::fprintf(stderr, "  %s: %s\n", r.solve.backend.c_str(), r.solve.message.c_str());
     }
     records.emplace(k, std::move(record));
   });
@@ -331,10 +331,10 @@ int RunPerturb(const PerturbFlags& f) {
   }
   if (f.json) std::printf("%s\n", out.dump().c_str());
   else PrintSummary(out);
-  const int failed = summary.not_converged + summary.dynamic;
+  const int failed = summary.not_converged + summary.dynamic + summary.blocked;
   if (failed > 0) {
-    std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d)\n",
-                 failed, summary.perturbations, summary.not_converged, summary.dynamic);
+    std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, blocked: %d)\n",
+                 failed, summary.perturbations, summary.not_converged, summary.dynamic, summary.blocked);
     if (f.solver.require_converged) return kNotConverged;
   }
   return kOk;

@@ -144,7 +144,8 @@ int RunMainJob(const MainJobFlags& flags) {
               "force over all static force networks, LP f_t=0: the largest with no tangential force on the contact\n"
               "(infeasible: no static network lets this contact open without friction; docs/indeterminacy.md).\n"
               "status ok: quasi-static response resolved; dynamic: the packing moves (no static F_crit);\n"
-              "not-converged: the solver missed the tolerance (see residual).\n\n");
+              "not-converged: the solver missed the tolerance (see residual); blocked: no motion of the rigid grains\n"
+              "satisfies the step (docs/perturbations.md).\n\n");
 
   const std::filesystem::path dir = flags.out;
   std::filesystem::create_directories(dir);

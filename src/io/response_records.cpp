@@ -1,5 +1,6 @@
 #include "unjam/io/response_records.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -62,7 +63,7 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.target = TargetFromJson(j.at("target"));
     r.origin = Vec2(j.at("origin")[0].get<double>(), j.at("origin")[1].get<double>());
     r.axis = Vec2(j.at("axis")[0].get<double>(), j.at("axis")[1].get<double>());
-    r.f_crit = j.at("f_crit").get<double>();
+    r.f_crit = j.at("f_crit").is_null() ? std::nan("") : j.at("f_crit").get<double>();  // null: blocked
     r.f_reference = j.at("f_reference").get<double>();
     r.penetration_depth = j.at("penetration_depth").get<double>();
     r.cell_strain = j.at("cell_strain").get<double>();

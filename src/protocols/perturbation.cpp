@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "unjam/analysis/equilibrium.hpp"
+#include "unjam/problem/kinematic_admissibility.hpp"
 #include "unjam/protocols/static_solve.hpp"
 
 namespace unjam {
@@ -249,6 +250,23 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.solver.tolerance = SolverToleranceFor(options, base);
   return solve;
 }
+
+// A blocked perturbation: no force is measured (F_crit is NaN) and nothing moves.
+PerturbationResult Blocked(const PerturbationBase& base, const KinematicAdmissibility& kinematics,
+                           PerturbationResult r, Clock::time_point start) {
+  const std::size_t n = base.scene.particles.size();
+  r.f_crit = std::nan("");
+  r.displacement.assign(n, Vec2::Zero());
+  r.rotation.assign(n, 0.0);
+  r.solve.backend = "kinematic LP";
+  r.solve.status = SolveStatus::kNumericalFailure;
+  r.solve.message = kinematics.message;
+  r.resolved = false;
+  r.quasi_static = false;
+  r.status = "blocked";
+  r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return r;
+}
 }  // namespace
 
 ContactProblem PosePerturbationProblem(const PerturbationBase& base, const PerturbationTarget& target,
@@ -266,7 +284,18 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   SetOriginAndReference(base, target, r);
 
   const StaticSolveOptions solve = StepOptions(base, options);
-  const StaticSolution s = SolveStatic(PerturbedScene(base, target, options), solve);
+  const Scene perturbed = PerturbedScene(base, target, options);
+  // Blocked perturbations have no response to measure: say so instead of reporting what a
+  // solver makes of an infeasible step (runaway forces, or penetrations spread below its
+  // tolerance). An opening under a pressure bath is never blocked: a uniform expansion
+  // of the cell opens every contact (u_n = λ l·n > 0), so it needs no check.
+  const bool always_admissible = target.kind == PerturbationTarget::Kind::kContactOpening && options.cell == CellCondition::kFixedPressure &&
+                                 base.scene.effects.pressure_bath.has_value();
+  if (!always_admissible) {
+    const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(PoseStaticProblem(perturbed, solve).assembled.problem);
+    if (kinematics.decided && !kinematics.admissible) return Blocked(base, kinematics, std::move(r), start);
+  }
+  const StaticSolution s = SolveStatic(perturbed, solve);
 
   r.solve = s.report;
   r.f_crit = CriticalForce(target, s);

@@ -20,11 +20,25 @@ for key in ("contacts", "rank", "indeterminacy_dimension", "mean_width", "second
 assert d["contacts"] == 2 and d["indeterminacy_dimension"] == 0 and d["feasible"], d
 assert abs(d["mean_width"]) < 1e-12, d["mean_width"]
 assert d["compared"] == 2 and d["max_rel_diff_fcrit"] < 1e-6, d
+assert d["quasi_static"] == 2 and d["inside_interval"] == 2 and d["outside_interval"] == 0 and d["dynamic"] == 0, d
 rows = list(csv.DictReader(open(sys.argv[2])))
 assert len(rows) == 2
 for r in rows:
     assert abs(float(r["max"]) - math.pi / 1.6) < 1e-10, r
     assert abs(float(r["f_crit"]) - float(r["max"])) < 1e-6, r
+    assert r["inside_interval"] == "1", r
+PY
+
+# A frictional packing: contact 4 of the default packing opens quasi-statically (lemke), and
+# a static opening must lie in its contact's interval [LP min, LP max without friction].
+"$unjam" bounds "$src/problems/pressure-n500-mu0.5.unjam" --contacts 4 --json --compare-perturb --threads 1 \
+  -o "$work/f4.csv" >"$work/f4.json" || fail "bounds --compare-perturb, frictional: exit $?"
+/usr/bin/python3 - "$work/f4.json" "$work/f4.csv" <<'PY' || fail "frictional opening inside its LP interval"
+import csv, json, sys
+d = json.load(open(sys.argv[1]))
+assert d["quasi_static"] == 1 and d["inside_interval"] == 1 and d["outside_interval"] == 0, d
+(r,) = list(csv.DictReader(open(sys.argv[2])))
+assert float(r["min"]) <= float(r["f_crit"]) <= float(r["max_without_friction"]) < float(r["max"]), r
 PY
 
 "$unjam" bounds "$work/g5.unjam" --json -o "$work/g5.csv" >"$work/g5.json" || fail "bounds g5: exit $?"

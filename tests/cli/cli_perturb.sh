@@ -34,6 +34,22 @@ cmp -s <(cut -d, -f1-21 "$work/before.csv") <(cut -d, -f1-21 "$work/out/perturba
 [ "$code" -eq 2 ] || fail "records of other parameters: exit $code, expected 2"
 grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"
 
+# A blocked perturbation: at fixed volume a frictionless packing cannot open a contact
+# (docs/perturbations.md). Reported as blocked with no F_crit; exit 3 only if asked.
+"$unjam" perturb "$src/problems/pressure-n500-mu0.unjam" --contact 0 --mode fixed-volume --json --threads 1 \
+  -o "$work/blocked" >"$work/blocked.json" 2>"$work/blocked.err" || fail "blocked opening: exit $?"
+grep -q "kinematic LP" "$work/blocked.err" || fail "no reason given for the blocked opening: $(cat "$work/blocked.err")"
+/usr/bin/python3 - "$work/blocked.json" "$work/blocked/perturbations.csv" <<'PY' || fail "blocked opening report"
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["blocked"] == 1 and d["used"] == 0 and d["mean_fcrit"] is None, d
+(r,) = list(csv.DictReader(open(sys.argv[2])))
+assert r["status"] == "blocked" and math.isnan(float(r["f_crit"])), r
+PY
+"$unjam" perturb "$src/problems/pressure-n500-mu0.unjam" --contact 0 --mode fixed-volume --require-converged \
+  --quiet >/dev/null 2>&1; code=$?
+[ "$code" -eq 3 ] || fail "blocked with --require-converged: exit $code, expected 3"
+
 # Bad input: no selection, two selections, a contact that does not exist, no forces, a bad
 # mode; none leaves an output directory behind.
 check() {  # expected-exit description args...

@@ -101,7 +101,9 @@ struct PerturbationResult {
   bool resolved = false;
   // Resolved, quasi-static: a result to use. Otherwise `status` says why not.
   bool ok() const { return resolved && quasi_static; }
-  // "ok"; "dynamic" (resolved, not quasi-static); "not-converged" (not resolved)
+  // "ok"; "dynamic" (resolved, not quasi-static); "not-converged" (not resolved);
+  // "blocked" (no motion satisfies the step's non-penetration: F_crit is NaN;
+  // problem/kinematic_admissibility.hpp)
   std::string status;
   double seconds = 0.0;
 };
