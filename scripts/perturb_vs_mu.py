@@ -1,0 +1,84 @@
+#!/usr/bin/python3
+"""Contact openings against friction: one `unjam perturb -o DIR` run per packing, read
+from each DIR's summary.json and perturbations.csv, written as a Markdown table (stdout)
+and a figure (matplotlib): the fraction of openings that are quasi-static, dynamic or
+blocked, ⟨F_crit⟩/⟨F_cont⟩ over the quasi-static ones, and ⟨δ⟩.
+
+Usage: scripts/perturb_vs_mu.py OUTPUT.png DIR [DIR ...]
+"""
+import csv
+import json
+import math
+import os
+import re
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+
+def friction_of(packing_file):
+    # summary.json names the packing as given on the command line, usually from the root.
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    path = packing_file if os.path.exists(packing_file) else os.path.join(root, packing_file)
+    with open(path) as f:
+        for line in f:
+            if line.startswith("friction "):
+                return float(line.split()[1])
+    return 0.0
+
+
+def main():
+    out_png, dirs = sys.argv[1], sys.argv[2:]
+    rows = []
+    for d in dirs:
+        s = json.load(open(f"{d}/summary.json"))
+        per = list(csv.DictReader(open(f"{d}/perturbations.csv")))
+        n = len(per)
+        count = lambda status: sum(1 for p in per if p["status"] == status)
+        rows.append({"packing": re.sub(r"\.unjam$", "", s["file"].split("/")[-1]), "mu": friction_of(s["file"]),
+                     "n": n, "selection": s["selection"], "ok": count("ok"), "dynamic": count("dynamic"),
+                     "blocked": count("blocked"), "not_converged": count("not-converged"),
+                     "ratio": s["ratio_fcrit_freference"], "ratio_error": s["ratio_error"],
+                     "delta": s["mean_delta"], "delta_error": s["mean_delta_error"], "backend": s["backend"]})
+    rows.sort(key=lambda r: r["mu"])
+    fmt = lambda x, e: "—" if x is None else f"{x:.3f} ± {e:.3f}"
+    print("| packing | μ | openings | quasi-static | dynamic | blocked | not resolved | ⟨F_crit⟩/⟨F_cont⟩ (quasi-static) | ⟨δ⟩ (quasi-static) | backend |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['packing']} | {r['mu']:g} | {r['n']} ({r['selection']}) | {r['ok']} | {r['dynamic']} | {r['blocked']} | "
+              f"{r['not_converged']} | {fmt(r['ratio'], r['ratio_error'])} | {fmt(r['delta'], r['delta_error'])} | {r['backend']} |")
+
+    # μ = 0 on a log axis: drawn at a tenth of the smallest positive μ and labelled.
+    positive = [r["mu"] for r in rows if r["mu"] > 0]
+    zero_at = min(positive) / 10 if positive else 1e-3
+    x = [r["mu"] if r["mu"] > 0 else zero_at for r in rows]
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(12, 3.6))
+    for key, label, marker in (("ok", "quasi-static", "o"), ("dynamic", "dynamic", "x"), ("blocked", "blocked", "s")):
+        a1.plot(x, [r[key] / r["n"] for r in rows], marker + "-", label=label)
+    # The LP's side (scripts/bounds_vs_mu.py): contacts that no static network lets open
+    # without friction; an opening of such a contact cannot be quasi-static.
+    lp_csv = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench", "results", "bounds-vs-mu.csv")
+    if os.path.exists(lp_csv):
+        lp = {r["packing"]: r for r in csv.DictReader(open(lp_csv))}
+        pts = [(xi, int(lp[r["packing"]]["no_frictionless_equilibrium"]) / int(lp[r["packing"]]["contacts"]))
+               for xi, r in zip(x, rows) if r["packing"] in lp]
+        if pts:
+            a1.plot([p[0] for p in pts], [p[1] for p in pts], "k--", lw=1, label="LP: cannot open without friction")
+    a1.set_ylabel("fraction of openings"); a1.legend(fontsize=8)
+    ok = [(xi, r) for xi, r in zip(x, rows) if r["ratio"] is not None]
+    a2.errorbar([xi for xi, _ in ok], [r["ratio"] for _, r in ok], yerr=[r["ratio_error"] for _, r in ok], fmt="o-")
+    a2.axhline(1.0, color="k", lw=0.8, ls="--")
+    a2.set_ylabel("⟨F_crit⟩ / ⟨F_cont⟩ (quasi-static)")
+    ok = [(xi, r) for xi, r in zip(x, rows) if r["delta"] is not None]
+    a3.errorbar([xi for xi, _ in ok], [r["delta"] for _, r in ok], yerr=[r["delta_error"] for _, r in ok], fmt="o-")
+    a3.set_ylabel("⟨δ⟩ (quasi-static)")
+    for a in (a1, a2, a3):
+        a.set_xscale("log"); a.set_xlabel("μ (μ = 0 drawn at the left end)")
+    fig.tight_layout(); fig.savefig(out_png, dpi=110)
+    print(f"\nwrote {out_png}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
