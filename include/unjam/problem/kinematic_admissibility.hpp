@@ -9,10 +9,11 @@
 // f⁰·ũ_n = 0 for every motion. Opening contact K (ũ_n,K > 0) would then need another
 // carrying contact to close (ũ_n,j < 0): no opening is possible without penetration.
 //
-// The LP is posed in units of the largest prescribed contact velocity (the perturbation,
-// ξ/Δt), so that CLP's feasibility tolerance (1e-9 here) is relative to it; a step that
-// the solvers satisfy only by spreading sub-tolerance penetrations over many contacts is
-// then caught.
+// The LP is posed in units of the largest normal offset: the perturbation ξ/Δt, or an open
+// contact's gap over Δt (at most the detection margin, 1e-6 or 1000 ξ, for perturbations).
+// CLP's feasibility tolerance (1e-9 here) is then relative to it, and a step that the
+// solvers satisfy only by spreading sub-tolerance penetrations over many contacts is
+// caught: at N = 500 those penetrations are 1e-3 of ξ each.
 #pragma once
 
 #include <string>
