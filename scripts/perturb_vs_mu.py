@@ -55,7 +55,7 @@ def main():
     zero_at = min(positive) / 10 if positive else 1e-3
     x = [r["mu"] if r["mu"] > 0 else zero_at for r in rows]
     fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(12, 3.6))
-    for key, label, marker in (("ok", "quasi-static", "o"), ("dynamic", "dynamic", "x"), ("blocked", "blocked", "s")):
+    for key, label, marker in (("ok", "quasi-static", "o"), ("dynamic", "dynamic", "x"), ("not_converged", "not resolved", "^"), ("blocked", "blocked", "s")):
         a1.plot(x, [r[key] / r["n"] for r in rows], marker + "-", label=label)
     # The LP's side (scripts/bounds_vs_mu.py): contacts that no static network lets open
     # without friction; an opening of such a contact cannot be quasi-static.
