@@ -1,6 +1,7 @@
 // `unjam bounds FILE [--contacts all|K,K,...] [--lp clp] [--compare-perturb] ...`
 #include "command_bounds.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -67,7 +68,6 @@ struct Comparison {
   // 0 if not, −1 where that does not apply (no quasi-static F_crit, or no such interval).
   std::vector<int> inside;
   int used = 0;
-  int quasi_static = 0, dynamic = 0, inside_interval = 0, outside_interval = 0;
   double mean_rel_diff = std::nan(""), max_rel_diff = std::nan("");
 };
 
@@ -105,11 +105,7 @@ Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, 
   PerturbAll(base, targets, o, threads, [&](int k, const PerturbationResult& r) {
     out.status[k] = r.status;
     out.inside[k] = InsideInterval(report.bounds[k], r);
-    out.dynamic += r.status == "dynamic";
-    out.inside_interval += out.inside[k] == 1;
-    out.outside_interval += out.inside[k] == 0;
     if (!r.ok()) return;
-    ++out.quasi_static;
     out.f_crit[k] = r.f_crit;
     const Bound& max = report.bounds[k].max;
     if (!max.ok() || max.value == 0.0) return;
@@ -205,10 +201,10 @@ int RunBounds(const BoundsFlags& f) {
     out["compared"] = cmp->used;
     out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
     out["max_rel_diff_fcrit"] = NumberOrNull(cmp->max_rel_diff);
-    out["quasi_static"] = cmp->quasi_static;
-    out["dynamic"] = cmp->dynamic;
-    out["inside_interval"] = cmp->inside_interval;
-    out["outside_interval"] = cmp->outside_interval;
+    out["quasi_static"] = std::count(cmp->status.begin(), cmp->status.end(), "ok");
+    out["dynamic"] = std::count(cmp->status.begin(), cmp->status.end(), "dynamic");
+    out["inside_interval"] = std::count(cmp->inside.begin(), cmp->inside.end(), 1);
+    out["outside_interval"] = std::count(cmp->inside.begin(), cmp->inside.end(), 0);
   }
   if (!f.output.empty()) out["output"] = f.output;
   if (f.json) {
@@ -222,7 +218,8 @@ int RunBounds(const BoundsFlags& f) {
     if (cmp) {
       std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
       std::printf("openings           %d quasi-static (%d inside [LP min, LP max without friction], %d outside), %d dynamic\n",
-                  cmp->quasi_static, cmp->inside_interval, cmp->outside_interval, cmp->dynamic);
+                  out["quasi_static"].get<int>(), out["inside_interval"].get<int>(), out["outside_interval"].get<int>(),
+                  out["dynamic"].get<int>());
     }
     std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
   }

@@ -291,11 +291,12 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   // of the cell opens every contact (u_n = λ l·n > 0), so it needs no check.
   const bool always_admissible = target.kind == PerturbationTarget::Kind::kContactOpening && options.cell == CellCondition::kFixedPressure &&
                                  base.scene.effects.pressure_bath.has_value();
+  StaticProblem posed = PoseStaticProblem(perturbed, solve);
   if (!always_admissible) {
-    const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(PoseStaticProblem(perturbed, solve).assembled.problem);
+    const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
     if (kinematics.decided && !kinematics.admissible) return Blocked(base, kinematics, std::move(r), start);
   }
-  const StaticSolution s = SolveStatic(perturbed, solve);
+  const StaticSolution s = SolveStatic(perturbed, std::move(posed), solve);
 
   r.solve = s.report;
   r.f_crit = CriticalForce(target, s);

@@ -60,9 +60,12 @@ StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& op
 }
 
 StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options) {
+  return SolveStatic(scene, PoseStaticProblem(scene, options), options);
+}
+
+StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const StaticSolveOptions& options) {
   const Scene rest = AtRest(scene);
   StaticSolution out;
-  StaticProblem posed = PoseStaticProblem(scene, options);
   out.contacts = std::move(posed.contacts);
   const AssembledProblem& assembled = posed.assembled;
   const ContactProblem& p = assembled.problem;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -156,7 +157,9 @@ class Lemke {
       Pivot(row, entering, std::move(alpha));
       if (leaving == tab_.Z0()) return Finish();
       basis_hash_ ^= VariableKey(leaving) ^ VariableKey(entering);
-      if (++visits_[basis_hash_] > kVisitsOfACycle) return Fail(LemkeOutcome::kCycle, "a basis came back 20 times: the path cycles");
+      if (++visits_[basis_hash_] > kVisitsOfACycle) {
+        return Fail(LemkeOutcome::kCycle, "a basis came back " + std::to_string(kVisitsOfACycle) + " times: the path cycles");
+      }
       if (result_.pivots >= max_pivots) return Fail(LemkeOutcome::kPivotLimit, "pivot limit reached");
       if (inverse_.Updates() >= kRefactorInterval && !Refactorise()) {
         return Fail(LemkeOutcome::kSingularBasis, "a basis became numerically singular");

@@ -53,6 +53,9 @@ struct StaticProblem {
   AssembledProblem assembled;
 };
 StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& options);
+// Solves a problem PoseStaticProblem(scene, options) has posed, for a caller that has
+// looked at it first (a perturbation checks its kinematics), without posing it again.
+StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const StaticSolveOptions& options);
 
 // The forces as the scene stores them (only force-carrying contacts).
 std::vector<ContactForce> ToContactForces(const StaticSolution& solution);
