@@ -49,6 +49,7 @@ class Tableau {
     columns_.setFromTriplets(t.begin(), t.end());
     rhs_.resize(Rows());
     rhs_ << p.x0, p.e;
+    if (p.perturbation.size() == n_) rhs_.tail(n_) += p.perturbation;
     SetCovering(Eigen::VectorXd::Ones(n_));
   }
   // z₀'s column is −d on the complementarity rows.
@@ -63,6 +64,8 @@ class Tableau {
   bool IsFree(int var) const { return var < nf_; }
   int Complement(int var) const { return var < nf_ + n_ ? var + n_ : var - n_; }
   const Eigen::VectorXd& Rhs() const { return rhs_; }
+  // The polish: the right-hand side of the unperturbed problem.
+  void RemovePerturbation(const Mlcp& p) { rhs_.tail(n_) = p.e; }
   Eigen::VectorXd Column(int var) const { return var == Z0() ? z0_column_ : Eigen::VectorXd(columns_.col(var)); }
   SparseMatrix Basis(const std::vector<int>& basic) const {
     std::vector<Eigen::Triplet<double>> t;
@@ -145,6 +148,12 @@ class Lemke {
     if (problem_.start.size() == n_ && problem_.start.maxCoeff() > 0.0 && !WarmStart()) {
       return Fail(LemkeOutcome::kSingularBasis, "the warm start's basis is singular");
     }
+    return Follow(max_pivots);
+  }
+
+ private:
+  // Follows the path from the current complementary basis, z₀ entering, until z₀ leaves.
+  LemkeResult Follow(int max_pivots) {
     // β = B⁻¹ rhs are the basic values at z₀ = 0, and they rise by B⁻¹d per unit of z₀.
     const Eigen::VectorXd rise = -inverse_.Solve(tab_.Column(tab_.Z0()));
     int row = FirstBlockingRow(rise);
@@ -171,7 +180,6 @@ class Lemke {
     }
   }
 
- private:
   // The row where z₀ enters: the basic variable that reaches zero last as z₀ decreases
   // (from +∞ on a cold start, from 1 on a warm one); ties go to the largest index (the
   // perturbation ε^i is smallest). −1: the basis is already feasible at z₀ = 0; −2: a
@@ -368,8 +376,14 @@ class Lemke {
   LemkeResult Finish() {
     // A fresh factorisation of the final basis and one step of iterative refinement: the
     // answer is that of this basis to round-off, not of the product-form updates.
+    // A perturbed run's basis is solved for the given right-hand side (the polish).
+    const bool perturbed = problem_.perturbation.size() == n_;
+    if (perturbed) tab_.RemovePerturbation(problem_);
     if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the final basis is singular");
     beta_ += inverse_.Solve(tab_.Rhs() - inverse_.Matrix() * beta_);
+    for (int pos = nf_; perturbed && pos < tab_.Rows(); ++pos) {
+      result_.polish_violation = std::max(result_.polish_violation, -beta_[pos]);
+    }
     result_.outcome = LemkeOutcome::kSolved;
     result_.x = beta_.head(nf_);
     result_.z = Eigen::VectorXd::Zero(n_);

@@ -32,6 +32,17 @@
 // where the perturbation requires, and it ends on the solution continuous with the
 // guess rather than on the one reached from zero impulses.
 //
+// Perturbed right-hand side (Mlcp::perturbation, small and generic, e.g. pseudo-random).
+// The lexicographic rule is the limit ε → 0 of e + (ε, ε², …), and in floating point its
+// ties must be told from round-off; a finite generic perturbation instead makes the
+// problem non-degenerate outright, so that no two rows tie and the ratio test needs no
+// tolerance to decide. The path is followed for e + perturbation; its final complementary
+// basis is then solved again for e itself (the polish). Where the perturbation only broke
+// ties, that basis is feasible for e to round-off and its solution is exact; the values
+// the polish left below zero (at most about the perturbation's size) are clamped and
+// their largest is reported (LemkeResult::polish_violation), and the caller judges the
+// answer by its residual.
+//
 // Termination on a ray (no blocking row) means the method found no solution: for a
 // copositive-plus matrix that proves the problem infeasible (Cottle, Pang & Stone 1992,
 // Thm 4.4.13), e.g. a prescribed motion that the rigid grains block.
@@ -51,6 +62,7 @@ struct Mlcp {
   Eigen::SparseMatrix<double> e_matrix;  // n × n, the E above
   Eigen::VectorXd e;               // n
   Eigen::VectorXd start;           // n or empty: a warm start z* ≥ 0 (above)
+  Eigen::VectorXd perturbation;    // n or empty: the path is followed for e + perturbation (below)
   int NumFree() const { return static_cast<int>(x0.size()); }
   int NumComplementary() const { return static_cast<int>(e.size()); }
 };
@@ -66,6 +78,7 @@ struct LemkeResult {
   int factorisations = 0;
   int start_support = 0;           // warm start: complementary variables of the reduced guess
   int start_dropped = 0;           //   and those of the guess zeroed to reach it
+  double polish_violation = 0.0;   // perturbed runs: −min of the basic values without the perturbation, or 0
   std::string message;
 };
 

@@ -68,6 +68,30 @@ TEST(LemkeCore, EndsOnARayWhenNoSolutionExists) {
   EXPECT_EQ(r.outcome, LemkeOutcome::kRay);
 }
 
+TEST(LemkePerturbed, ThePolishSolvesTheFinalBasisForTheGivenProblem) {
+  // w = M z + q with q = (−1, 0): degenerate (w₂ = 0 at z = 0). Followed for q + (1e-3, 2e-3),
+  // the path ends on the basis (z₁, w₂); without the perturbation that basis gives
+  // z = (0.5, 0), w₂ = 0.5 · 1 + 0 = 0.5 exactly, not the perturbed values.
+  Mlcp p = Lcp(Dense(2, 2, {2, 0, 1, 1}), Eigen::Vector2d(-1, 0));
+  p.perturbation = Eigen::Vector2d(1e-3, 2e-3);
+  const auto r = SolveMlcp(p, 100, 1e-16);
+  ASSERT_EQ(r.outcome, LemkeOutcome::kSolved) << r.message;
+  EXPECT_NEAR(r.z[0], 0.5, 1e-15);
+  EXPECT_EQ(r.z[1], 0.0);
+  EXPECT_EQ(r.polish_violation, 0.0);
+}
+
+TEST(LemkePerturbed, ABasisThatOnlyThePerturbationMadeFeasibleIsReported) {
+  // w = z − 1e-7 needs z = 1e-7; with the perturbation 1e-6 the path stops at once on the
+  // basis (w) (w = 9e-7 ≥ 0), which without it has w = −1e-7: reported, not hidden.
+  Mlcp p = Lcp(Dense(1, 1, {1}), Eigen::VectorXd::Constant(1, -1e-7));
+  p.perturbation = Eigen::VectorXd::Constant(1, 1e-6);
+  const auto r = SolveMlcp(p, 100, 1e-16);
+  ASSERT_EQ(r.outcome, LemkeOutcome::kSolved) << r.message;
+  EXPECT_EQ(r.z[0], 0.0);
+  EXPECT_NEAR(r.polish_violation, 1e-7, 1e-20);
+}
+
 TEST(LemkeWarmStart, FromAWrongGuessStillEndsOnTheUniqueSolution) {
   Mlcp p = Lcp(Dense(2, 2, {2, 1, 1, 2}), Eigen::Vector2d(-5, -6));
   p.start = Eigen::Vector2d(0.0, 5.0);
