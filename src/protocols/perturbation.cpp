@@ -248,6 +248,7 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.backend = PerturbationBackend(options, base.scene);
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);
+  solve.solver.lemke_velocity_scale = options.gap / options.dt;
   return solve;
 }
 

@@ -24,6 +24,13 @@ const char* ToString(LemkeOutcome outcome) {
   return "?";
 }
 
+std::uint64_t SplitMix64(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
 namespace {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
@@ -300,12 +307,7 @@ class Lemke {
   // Zobrist keys (splitmix64 of the variable's index): the basis's hash is the XOR of the
   // keys of its variables, so a pivot updates it in O(1). A collision among the at most
   // 10⁶ bases of a run has probability below 10⁻⁷.
-  static std::uint64_t VariableKey(int variable) {
-    std::uint64_t x = static_cast<std::uint64_t>(variable) + 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-  }
+  static std::uint64_t VariableKey(int variable) { return SplitMix64(static_cast<std::uint64_t>(variable)); }
 
   bool Refactorise() {
     ++result_.factorisations;

@@ -64,6 +64,9 @@ struct SolverOptions {
   // lemke: first follow the homotopy from the problem's initial_guess (lemke_mlcp.hpp),
   // then the cold path from zero impulses. Experimental: off by default.
   bool lemke_warm_start = false;
+  // lemke: the velocity scale of the answer, which sizes the perturbed runs' perturbation
+  // (lemke.cpp); 0: the largest |velocity offset| of the problem. A perturbation sets ξ/Δt.
+  double lemke_velocity_scale = 0.0;
 };
 // Throws std::invalid_argument naming the option, the value and the rule.
 void Validate(const SolverOptions& options);
