@@ -167,7 +167,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // O(1) and the network amplifies their round-off 10⁴–10⁵ times, so the velocities are
   // known to about 1e-11, 1 % of ξ = 1e-9. With perturbations of 1e-3 ξ every one of five
   // cycling openings still cycles, with 1e-2 ξ some and with 1e-1 ξ none. The polished
-  // basis then misses the given problem by up to 8e-9 in the impulses, and Newton
+  // basis then misses the given problem by up to 3e-8 in the impulses, and Newton
   // (newton.cpp) polishes the answer from there on the given problem. Only an answer
   // within the tolerance is reported converged.
   // Each run is bounded by 20 pivots per complementarity row and by the caller's
