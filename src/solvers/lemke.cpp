@@ -165,11 +165,11 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // theirs, the end of the path from zero impulses. On the hyperstatic μ = 0.1
   // packing the lexicographic order cannot be told in double precision: the impulses are
   // O(1) and the network amplifies their round-off 10⁴–10⁵ times, so the velocities are
-  // known to about 1e-11, 1 % of ξ = 1e-9. With perturbations of 1e-3 ξ every one of five
-  // cycling openings still cycles, with 1e-2 ξ some and with 1e-1 ξ none. The polished
-  // basis then misses the given problem by up to 3e-8 in the impulses, and Newton
-  // (newton.cpp) polishes the answer from there on the given problem. Only an answer
-  // within the tolerance is reported converged.
+  // known to about 1e-11, 1 % of ξ = 1e-9. With perturbations of 1e-3 ξ the four
+  // cycling openings tried still cycle, with 1e-2 ξ half of them, and with 1e-1 ξ none of
+  // five. The polished basis then misses the given problem by up to 3e-8 in the
+  // impulses, and Newton (newton.cpp) polishes the answer from there on the given
+  // problem. Only an answer within the tolerance is reported converged.
   // Each run is bounded by 20 pivots per complementarity row and by the caller's
   // max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
   // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
