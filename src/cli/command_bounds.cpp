@@ -69,6 +69,8 @@ struct Comparison {
   std::vector<int> inside;
   int used = 0;
   double mean_rel_diff = std::nan(""), max_rel_diff = std::nan("");
+  int WithStatus(const std::string& s) const { return static_cast<int>(std::count(status.begin(), status.end(), s)); }
+  int WithInside(int value) const { return static_cast<int>(std::count(inside.begin(), inside.end(), value)); }
 };
 
 // A static opening is held by a network in which the opened contact carries no tangential
@@ -201,10 +203,10 @@ int RunBounds(const BoundsFlags& f) {
     out["compared"] = cmp->used;
     out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
     out["max_rel_diff_fcrit"] = NumberOrNull(cmp->max_rel_diff);
-    out["quasi_static"] = std::count(cmp->status.begin(), cmp->status.end(), "ok");
-    out["dynamic"] = std::count(cmp->status.begin(), cmp->status.end(), "dynamic");
-    out["inside_interval"] = std::count(cmp->inside.begin(), cmp->inside.end(), 1);
-    out["outside_interval"] = std::count(cmp->inside.begin(), cmp->inside.end(), 0);
+    out["quasi_static"] = cmp->WithStatus("ok");
+    out["dynamic"] = cmp->WithStatus("dynamic");
+    out["inside_interval"] = cmp->WithInside(1);
+    out["outside_interval"] = cmp->WithInside(0);
   }
   if (!f.output.empty()) out["output"] = f.output;
   if (f.json) {
@@ -218,8 +220,7 @@ int RunBounds(const BoundsFlags& f) {
     if (cmp) {
       std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
       std::printf("openings           %d quasi-static (%d inside [LP min, LP max without friction], %d outside), %d dynamic\n",
-                  out["quasi_static"].get<int>(), out["inside_interval"].get<int>(), out["outside_interval"].get<int>(),
-                  out["dynamic"].get<int>());
+                  cmp->WithStatus("ok"), cmp->WithInside(1), cmp->WithInside(0), cmp->WithStatus("dynamic"));
     }
     std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
   }

@@ -155,12 +155,6 @@ class Lemke {
     if (problem_.start.size() == n_ && problem_.start.maxCoeff() > 0.0 && !WarmStart()) {
       return Fail(LemkeOutcome::kSingularBasis, "the warm start's basis is singular");
     }
-    return Follow(max_pivots);
-  }
-
- private:
-  // Follows the path from the current complementary basis, z₀ entering, until z₀ leaves.
-  LemkeResult Follow(int max_pivots) {
     // β = B⁻¹ rhs are the basic values at z₀ = 0, and they rise by B⁻¹d per unit of z₀.
     const Eigen::VectorXd rise = -inverse_.Solve(tab_.Column(tab_.Z0()));
     int row = FirstBlockingRow(rise);
@@ -187,6 +181,7 @@ class Lemke {
     }
   }
 
+ private:
   // The row where z₀ enters: the basic variable that reaches zero last as z₀ decreases
   // (from +∞ on a cold start, from 1 on a warm one); ties go to the largest index (the
   // perturbation ε^i is smallest). −1: the basis is already feasible at z₀ = 0; −2: a
