@@ -31,6 +31,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; large cells, docs/packings.md)")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
   app.add_option("--checkpoint", checkpoint, "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");
@@ -116,7 +117,7 @@ nlohmann::json Summary(const PackFlags& f, const Scene& result, const RelaxRepor
   nlohmann::json out = {{"protocol", f.protocol}, {"particles", result.particles.size()},
                         {"contacts", z.force_carrying_contacts}, {"packing_fraction", PackingFraction(result)},
                         {"coordination", z.z}, {"rattlers", z.rattlers}, {"steps", r.steps},
-                        {"jammed", r.jammed}, {"static_checks", r.static_checks},
+                        {"jammed", r.jammed}, {"static_checks", r.static_checks}, {"refined_checks", r.refined_checks},
                         {"unconverged_steps", r.unconverged_steps}, {"max_overlap", MaxOverlap(result)},
                         {"closure_displacement", r.closure_displacement},
                         {"static_solve", ToJson(s.report)}, {"equilibrium_residual", s.equilibrium.residual},
@@ -143,6 +144,8 @@ nlohmann::json PackFlags::Parameters() const {
   if (backend != "nsgs") p["backend"] = backend;  // absent from files made before the option
   p["rest_speed"] = rest_speed;
   p["check_iter"] = check_iter;
+  // Absent means the default: files made before the option carry it in their provenance.
+  if (refine_iter != PackFlags{}.refine_iter) p["refine_iter"] = refine_iter;
   return p;
 }
 
@@ -161,6 +164,7 @@ int RunPack(const PackFlags& f) {
   relax.rest_speed = f.rest_speed;
   relax.max_steps = f.max_steps;
   relax.static_max_iterations = f.check_iter;
+  relax.refine_max_iterations = f.refine_iter;
   relax.static_backend = f.backend;
   relax.progress_interval = f.quiet ? 0 : 1000;
   relax.progress = PrintProgress;

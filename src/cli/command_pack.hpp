@@ -25,6 +25,7 @@ struct PackFlags {
   std::string backend = "nsgs";
   double rest_speed = 1e-2;
   int check_iter = 100000;
+  int refine_iter = 30000;
   int max_steps = 1000000;
   std::string output;
   std::string checkpoint;           // default: OUTPUT.checkpoint

@@ -16,6 +16,7 @@ namespace {
 nlohmann::json Progress(const RelaxReport& r, double seconds) {
   return {{"steps", r.steps},
           {"static_checks", r.static_checks},
+          {"refined_checks", r.refined_checks},
           {"unconverged_steps", r.unconverged_steps},
           {"calm_steps", r.calm_steps},
           {"next_attempt", r.next_attempt},
@@ -28,6 +29,7 @@ RelaxReport ReportFrom(const nlohmann::json& p, const std::string& path) {
   try {
     r.steps = p.at("steps").get<int>();
     r.static_checks = p.at("static_checks").get<int>();
+    r.refined_checks = p.value("refined_checks", 0);  // absent from checkpoints made before the option
     r.unconverged_steps = p.at("unconverged_steps").get<int>();
     r.calm_steps = p.at("calm_steps").get<int>();
     r.next_attempt = p.at("next_attempt").get<int>();

@@ -3,6 +3,10 @@
 // (sparse Cholesky, CHOLMOD) and solved for any number of right-hand sides. The ridge
 // ε = relative_ridge · max(1, mean diagonal of G Gᵀ) keeps a rank-deficient G (a particle
 // with too few contacts) factorisable; the caller checks the residual it gets.
+//
+// A column with at least `dense_column` non-zeros (the cell strain's in contact closure,
+// on which every contact's gap depends) would make G Gᵀ dense: such columns are taken out
+// of the factorisation and put back by the Woodbury identity.
 #pragma once
 
 #include <memory>
@@ -14,7 +18,10 @@ namespace unjam {
 
 class LeastNormSolver {
  public:
-  LeastNormSolver(const Eigen::SparseMatrix<double>& g, double relative_ridge);
+  // Below 4096 rows the dense factorisation costs seconds at most, and that default keeps
+  // the bundled packings' bits (their closures ran that way).
+  static constexpr int kDenseColumn = 4096;
+  LeastNormSolver(const Eigen::SparseMatrix<double>& g, double relative_ridge, int dense_column = kDenseColumn);
   ~LeastNormSolver();
   LeastNormSolver(const LeastNormSolver&) = delete;
   LeastNormSolver& operator=(const LeastNormSolver&) = delete;

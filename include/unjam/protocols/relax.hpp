@@ -9,7 +9,12 @@
 // 3. Certificate, on a copy of the state (docs/method.md, "Until static"):
 //    a. the admissible forces nearest to the last step's forces on the contacts whose gap is
 //       at most `closure_gap` (indeterminacy/admissible_forces.hpp): forces that balance
-//       every free particle (and the cell's pressure) to round-off inside the Coulomb cones;
+//       every free particle (and the cell's pressure) to round-off inside the Coulomb cones.
+//       If there are none and `refine_max_iterations` > 0, the last step's forces are
+//       refined first by a static solve from rest started from them (at most that many
+//       sweeps), and the nearest admissible forces to the refined ones are sought: in large
+//       cells the capped steps leave the long-wavelength part of the forces unresolved, so
+//       a static packing's last step forces can be too far from any admissible network;
 //    b. contact closure (contact_closure.hpp): the smallest displacement that brings the
 //       gaps of the carrying (and of any overlapping) contacts to zero, typically 1e-6;
 //    c. the same certificate again on the closed state, with only contacts closed to
@@ -46,6 +51,7 @@ struct RelaxOptions {
   std::string static_backend = "nsgs";    // of the static check (the steps use the simulation's)
   double static_tolerance = 1e-10;
   int static_max_iterations = 100000;
+  int refine_max_iterations = 0;         // 3a's refining static solve; 0 = none
   double equilibrium_tolerance = 1e-8;
   double pressure_tolerance = 1e-8;
   // Called every `progress_interval` steps, 0 = never.
@@ -69,6 +75,7 @@ struct RelaxReport {
   std::string check_message;            // why the last attempt failed, if it did
   double closure_displacement = 0.0;    // largest displacement of the last contact closure
   StaticSolution final_check;           // static solve of the certified state (if any)
+  int refined_checks = 0;               // certificates that refined the step's forces (3a)
   double pressure_mismatch = 0.0;       // |P_in/P_ext − 1| of the final check (pressure bath)
   // The loop's own state, so that a run can resume from a checkpoint.
   int calm_steps = 0;                   // consecutive steps below the rest speed

@@ -1,0 +1,44 @@
+// Tests for src/protocols/relax.cpp: the certificate's refinement of the last step's forces.
+#include <gtest/gtest.h>
+
+#include "unjam/io/packing_file.hpp"
+#include "unjam/protocols/relax.hpp"
+
+namespace unjam {
+namespace {
+
+// One certificate on the bundled static packing after a single dynamics step whose solve was
+// cut to one sweep: the state is static (the step moved nothing measurable), its forces are
+// not.
+RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations) {
+  StepOptions step;
+  step.dt = 1e-6;  // particles move by at most ~1e-8: every carrying contact stays within 1e-6
+  Simulation sim(ReadPacking(UNJAM_SOURCE_DIR "/problems/pressure-n500-mu0.5.unjam"), step);
+  RelaxOptions relax;
+  relax.step_max_iterations = 1;
+  relax.window = 1;
+  relax.max_steps = 1;
+  relax.refine_max_iterations = refine_max_iterations;
+  return RelaxToStatic(sim, relax);
+}
+
+TEST(Relax, UnconvergedStepForcesFailTheCertificateWithoutRefinement) {
+  const RelaxReport r = CertifyAfterOneRoughStep(0);
+  EXPECT_EQ(r.static_checks, 1);
+  EXPECT_FALSE(r.jammed);
+  EXPECT_EQ(r.refined_checks, 0);
+  EXPECT_NE(r.check_message.find("no admissible forces"), std::string::npos) << r.check_message;
+}
+
+TEST(Relax, RefiningTheStepForcesLetsTheStaticPackingPassInFull) {
+  const RelaxReport r = CertifyAfterOneRoughStep(30000);
+  EXPECT_EQ(r.static_checks, 1);
+  EXPECT_EQ(r.refined_checks, 1);
+  ASSERT_TRUE(r.jammed) << r.check_message;
+  EXPECT_TRUE(r.final_check.report.converged());
+  EXPECT_LT(r.final_check.equilibrium.residual, 1e-8);
+  EXPECT_LT(r.pressure_mismatch, 1e-8);
+}
+
+}  // namespace
+}  // namespace unjam
