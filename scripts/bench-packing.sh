@@ -4,9 +4,11 @@
 # interrupted run has both μ up to some N. Results are appended to
 # bench/results/packing-vs-n.csv as they come (a rerun skips rows already there), and the
 # growth exponent of the cost is fitted at the end. STEP_ITER (default 500) caps the NSGS
-# sweeps per dynamics step; large frictional cells need 2000 (docs/performance.md). Each run
-# checkpoints into bench/results/work/ (git-ignored), so an interrupted run resumes there.
-# Usage: [STEP_ITER=2000] scripts/bench-packing.sh [BUILD_DIR] [N ...]
+# sweeps per dynamics step; large frictional cells need 2000 (docs/performance.md).
+# REFINE_ITER (default 30000, unjam's) caps the static solve that refines a failed
+# certificate's forces; the rows measured before that existed have 0. Each run checkpoints
+# into bench/results/work/ (git-ignored), so an interrupted run resumes there.
+# Usage: [STEP_ITER=2000] [REFINE_ITER=N] scripts/bench-packing.sh [BUILD_DIR] [N ...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 unjam="${1:-$root/build}/unjam"
@@ -14,21 +16,22 @@ shift || true
 [ $# -gt 0 ] && sizes=("$@") || sizes=(500 1000 2000 4000 8000)
 out="$root/bench/results/packing-vs-n.csv"
 mkdir -p "$(dirname "$out")"
-[ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed,step_iter" >"$out"
+[ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed,step_iter,refine_iter" >"$out"
 step_iter="${STEP_ITER:-500}"
+refine_iter="${REFINE_ITER:-30000}"
 work="$root/bench/results/work"
 mkdir -p "$work"
 for n in "${sizes[@]}"; do
   for mu in 0.1 1; do
     grep -q "^$n,$mu," "$out" && continue
-    run="$work/n$n-mu$mu-s$step_iter"
+    run="$work/n$n-mu$mu-s$step_iter-r$refine_iter"
     "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 --step-iter "$step_iter" \
-      -o "$run.unjam" --json --quiet >"$run.json" || true
-    /usr/bin/python3 - "$run.json" "$n" "$mu" "$step_iter" >>"$out" <<'PY'
+      --refine-iter "$refine_iter" -o "$run.unjam" --json --quiet >"$run.json" || true
+    /usr/bin/python3 - "$run.json" "$n" "$mu" "$step_iter" "$refine_iter" >>"$out" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 print(f"{sys.argv[2]},{sys.argv[3]},{d['seconds']:.2f},{d['steps']},{d['static_checks']},"
-      f"{d['packing_fraction']:.5f},{d['coordination']:.4f},{str(d['jammed']).lower()},{sys.argv[4]}")
+      f"{d['packing_fraction']:.5f},{d['coordination']:.4f},{str(d['jammed']).lower()},{sys.argv[4]},{sys.argv[5]}")
 PY
     tail -n 1 "$out"
   done
@@ -37,7 +40,7 @@ done
 import csv, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 for mu in sorted({r["mu"] for r in rows}):
-    pts = [(math.log(int(r["n"])), math.log(float(r["seconds"]))) for r in rows if r["mu"] == mu]
+    pts = [(math.log(int(r["n"])), math.log(float(r["seconds"]))) for r in rows if r["mu"] == mu and r["jammed"] == "true"]
     if len(pts) < 2:
         continue
     mx = sum(x for x, _ in pts) / len(pts); my = sum(y for _, y in pts) / len(pts)
