@@ -52,8 +52,9 @@ make_old() {  # make_old NAME ARGS...: as make, with the unjam of $old_protocol
   "$old_unjam" pack "$@" -o "problems/$name.unjam" --json --quiet >"problems/logs/$name.json"
 }
 make_old pressure-n500-mu0 --protocol pressure --n 500 --mu 0 --seed 1
-# N = 3000 needs 2000 NSGS sweeps per dynamics step, like the tall pile below: with 500
-# the wide cell creeps and no certificate passed in 15 000 steps (docs/performance.md).
+# N = 3000 was made with 2000 NSGS sweeps per dynamics step, like the tall pile below:
+# without refined certificates, 500 left no certificate passing in 15 000 steps (with
+# them the defaults certify it, docs/performance.md).
 make pressure-n3000-mu0.5 --protocol pressure --n 3000 --mu 0.5 --seed 1 --step-iter 2000
 
 # Piles settled under gravity g = 1 on a rough bed, periodic in x, width 100.
