@@ -31,7 +31,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();
-  app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; large cells, docs/packings.md)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; docs/method.md, \"Until static\")")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
   app.add_option("--checkpoint", checkpoint, "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");
@@ -144,7 +144,9 @@ nlohmann::json PackFlags::Parameters() const {
   if (backend != "nsgs") p["backend"] = backend;  // absent from files made before the option
   p["rest_speed"] = rest_speed;
   p["check_iter"] = check_iter;
-  // Absent means the default: files made before the option carry it in their provenance.
+  // Written only when it is not the default, as --backend. Files made before the option
+  // lack it although they ran without refinement: the bundled ones had `--refine-iter 0`
+  // added to their provenance (problems/README.md).
   if (refine_iter != PackFlags{}.refine_iter) p["refine_iter"] = refine_iter;
   return p;
 }
