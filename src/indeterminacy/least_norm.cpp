@@ -32,28 +32,26 @@ struct LeastNormSolver::Factor {
 LeastNormSolver::LeastNormSolver(const Eigen::SparseMatrix<double>& g, double relative_ridge, int dense_column)
     : g_(g), factor_(std::make_unique<Factor>()) {
   const std::vector<int> dense = DenseColumns(g_, dense_column);
-  if (dense.empty()) {
-    Eigen::SparseMatrix<double> normal = g_ * g_.transpose();
-    Eigen::SparseMatrix<double> ridge(normal.rows(), normal.cols());
-    ridge.setIdentity();
-    normal += relative_ridge * std::max(1.0, normal.diagonal().mean()) * ridge;
-    factor_->llt.compute(normal);
-    return;
+  Eigen::SparseMatrix<double> sparse;  // G without its dense columns (only if it has some)
+  if (!dense.empty()) {
+    sparse = g_;
+    factor_->dense.resize(g_.rows(), static_cast<Eigen::Index>(dense.size()));
+    for (std::size_t k = 0; k < dense.size(); ++k) {
+      factor_->dense.col(static_cast<Eigen::Index>(k)) = Eigen::VectorXd(g_.col(dense[k]));
+      for (Eigen::SparseMatrix<double>::InnerIterator it(sparse, dense[k]); it; ++it) it.valueRef() = 0.0;
+    }
+    sparse.prune(0.0);
   }
-  Eigen::SparseMatrix<double> sparse = g_;
-  factor_->dense.resize(g_.rows(), static_cast<Eigen::Index>(dense.size()));
-  for (std::size_t k = 0; k < dense.size(); ++k) {
-    factor_->dense.col(static_cast<Eigen::Index>(k)) = Eigen::VectorXd(g_.col(dense[k]));
-    for (Eigen::SparseMatrix<double>::InnerIterator it(sparse, dense[k]); it; ++it) it.valueRef() = 0.0;
-  }
-  sparse.prune(0.0);
-  const double mean_diagonal = g_.cwiseAbs2().sum() / std::max<Eigen::Index>(1, g_.rows());
-  Eigen::SparseMatrix<double> normal = sparse * sparse.transpose();
+  const Eigen::SparseMatrix<double>& factorised = dense.empty() ? g_ : sparse;
+  Eigen::SparseMatrix<double> normal = factorised * factorised.transpose();
+  // The ridge is sized on the whole G Gᵀ, whose diagonal holds the rows' squared norms.
+  const double mean_diagonal = dense.empty() ? normal.diagonal().mean()
+                                             : g_.cwiseAbs2().sum() / static_cast<double>(g_.rows());
   Eigen::SparseMatrix<double> ridge(normal.rows(), normal.cols());
   ridge.setIdentity();
   normal += relative_ridge * std::max(1.0, mean_diagonal) * ridge;
   factor_->llt.compute(normal);
-  if (factor_->llt.info() != Eigen::Success) return;
+  if (dense.empty() || factor_->llt.info() != Eigen::Success) return;
   factor_->solved_dense = factor_->llt.solve(factor_->dense);
   const Eigen::Index k = factor_->dense.cols();
   factor_->capacitance.compute(Eigen::MatrixXd::Identity(k, k) + factor_->dense.transpose() * factor_->solved_dense);

@@ -38,18 +38,23 @@ AdmissibleForces Admissible(const EquilibriumSystem& system, const std::vector<C
   return NearestAdmissibleForces(system, StoredForcesOf(system, reference), options);
 }
 
+// The static solve of the certificate (3a's refinement, 3d's check), with a sweep limit.
+StaticSolveOptions StaticOptions(const RelaxOptions& o, int max_iterations) {
+  StaticSolveOptions solve;
+  solve.closed_gap_tolerance = o.closed_gap_tolerance;
+  solve.backend = o.static_backend;
+  solve.solver.tolerance = o.static_tolerance;
+  solve.solver.max_iterations = max_iterations;
+  return solve;
+}
+
 // Step 3a's refinement: the forces of a static solve from rest (`state` is at rest),
 // started from the last step's forces.
 std::vector<ContactForce> RefinedForces(const Scene& state, const std::vector<ContactForce>& reference,
                                         const RelaxOptions& o) {
   Scene start = state;
   start.forces = reference;
-  StaticSolveOptions refine;
-  refine.closed_gap_tolerance = o.closed_gap_tolerance;
-  refine.backend = o.static_backend;
-  refine.solver.tolerance = o.static_tolerance;
-  refine.solver.max_iterations = o.refine_max_iterations;
-  return ToContactForces(SolveStatic(start, refine));
+  return ToContactForces(SolveStatic(start, StaticOptions(o, o.refine_max_iterations)));
 }
 
 // Step 3b: close the carrying contacts, and any contact that overlaps (also one that the
@@ -78,12 +83,7 @@ bool CloseCarryingContacts(Scene& state, const EquilibriumSystem& system, const 
 
 // Step 3d: the static solve of the certified state.
 bool StaticCheck(const Scene& state, const RelaxOptions& o, RelaxReport& report) {
-  StaticSolveOptions check;
-  check.closed_gap_tolerance = o.closed_gap_tolerance;
-  check.backend = o.static_backend;
-  check.solver.tolerance = o.static_tolerance;
-  check.solver.max_iterations = o.static_max_iterations;
-  report.final_check = SolveStatic(state, check);
+  report.final_check = SolveStatic(state, StaticOptions(o, o.static_max_iterations));
   const StaticSolution& s = report.final_check;
   bool ok = s.report.converged() && s.equilibrium.residual <= o.equilibrium_tolerance;
   if (state.effects.pressure_bath) {

@@ -27,6 +27,7 @@
 #include "lemke_mlcp.hpp"
 #include "matrix_form.hpp"
 #include "newton.hpp"
+#include "splitmix64.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -105,7 +106,7 @@ Eigen::VectorXd StartOf(const MatrixForm& k, const Eigen::VectorXd& r, int varia
 // A pseudo-random number in [1, 2) from an index (splitmix64): the same perturbation on
 // every run, thread and machine.
 double GenericWeight(int index) {
-  return 1.0 + static_cast<double>(lemke_internal::SplitMix64(static_cast<std::uint64_t>(index)) >> 11) * 0x1.0p-53;
+  return 1.0 + static_cast<double>(solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(index)) >> 11) * 0x1.0p-53;
 }
 
 // The generic right-hand side perturbation of a perturbed run (lemke_mlcp.hpp): every

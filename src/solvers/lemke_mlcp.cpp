@@ -1,4 +1,5 @@
 #include "lemke_mlcp.hpp"
+#include "splitmix64.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,13 +23,6 @@ const char* ToString(LemkeOutcome outcome) {
     case LemkeOutcome::kSingularBasis: return "singular-basis";
   }
   return "?";
-}
-
-std::uint64_t SplitMix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
 }
 
 namespace {
@@ -302,7 +296,7 @@ class Lemke {
   // Zobrist keys (splitmix64 of the variable's index): the basis's hash is the XOR of the
   // keys of its variables, so a pivot updates it in O(1). A collision among the at most
   // 10⁶ bases of a run has probability below 10⁻⁷.
-  static std::uint64_t VariableKey(int variable) { return SplitMix64(static_cast<std::uint64_t>(variable)); }
+  static std::uint64_t VariableKey(int variable) { return solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(variable)); }
 
   bool Refactorise() {
     ++result_.factorisations;

@@ -49,7 +49,6 @@
 // Thm 4.4.13), e.g. a prescribed motion that the rigid grains block.
 #pragma once
 
-#include <cstdint>
 #include <string>
 
 #include <Eigen/Core>
@@ -87,8 +86,5 @@ struct LemkeResult {
 // `tie_tolerance`: basic values within tie_tolerance × the largest one block together in the
 // ratio test (Harris), and are then ordered by the lexicographic rule.
 LemkeResult SolveMlcp(const Mlcp& problem, int max_pivots, double tie_tolerance);
-
-// splitmix64: a well-mixed 64-bit hash of x (the basis keys; the perturbation's weights).
-std::uint64_t SplitMix64(std::uint64_t x);
 
 }  // namespace unjam::lemke_internal

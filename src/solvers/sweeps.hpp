@@ -9,23 +9,10 @@
 #include <numeric>
 #include <vector>
 
+#include "splitmix64.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 
 namespace unjam::solvers_internal {
-
-// SplitMix64: a tiny, fast, well-mixed generator for the sweep order.
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t Next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  std::uint32_t Below(std::uint32_t n) {  // Lemire's multiply-shift, bias < 2⁻³²·n
-    return static_cast<std::uint32_t>(((Next() >> 32) * n) >> 32);
-  }
-};
 
 inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<std::uint32_t>& order) {
   const std::uint32_t n = static_cast<std::uint32_t>(order.size());
