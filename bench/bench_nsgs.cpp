@@ -6,7 +6,8 @@
 // problems/pressure-n3000-mu0.5.unjam (skipped if absent), with its own μ = 0.5 and with
 // μ = 0; (2) a dense periodic packing of 56 × 56 = 3136 disks under a pressure bath (a
 // triangular lattice whose radii are shrunk at random by up to 0.1%: a disordered contact
-// network of about 9400 contacts). The counter ns_per_update = wall time / (sweeps ×
+// network of about 9400 contacts), and (3) the same lattice from 56² to 160² disks, to see
+// where the contacts outgrow the cache. The counter ns_per_update = wall time / (sweeps ×
 // contacts); a fixed number of sweeps is timed, the residual evaluated at the start and end.
 #include <benchmark/benchmark.h>
 
@@ -88,9 +89,16 @@ void BM_NsgsSweepsJammed3000(benchmark::State& state) {
   TimeSweeps(state, JammedProblem(state.range(0) / 100.0));
 }
 
-// Args: μ × 100, random order (1) or forward (0).
+// The lattice with side² disks: from N = 3136 (9 400 contacts, which fit in the core's
+// cache) to N = 25 600 (77 000 contacts, which do not).
+void BM_NsgsSweepsBySize(benchmark::State& state) {
+  TimeSweeps(state, DenseProblem(state.range(0) / 100.0, static_cast<int>(state.range(2))));
+}
+
+// Args: μ × 100, random order (1) or forward (0)[, lattice side].
 BENCHMARK(BM_NsgsSweepsJammed3000)->Args({50, 1})->Args({0, 1})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweeps)->Args({0, 1})->Args({50, 1})->Args({0, 0})->Args({50, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsSweepsBySize)->Args({50, 1, 56})->Args({50, 1, 80})->Args({50, 1, 112})->Args({50, 1, 160})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace unjam
