@@ -12,7 +12,7 @@ namespace unjam::cli {
 void SolverFlags::Register(CLI::App& app) {
   app.add_option("--backend", backend, "contact solver backend")->capture_default_str();
   app.add_option("--tol", options.tolerance, "tolerance on the unjam residual (docs/residual.md)")->capture_default_str();
-  app.add_option("--max-iter", options.max_iterations, "NSGS sweep limit (newton: of its NSGS warm-up; ipopt, nlopt: De Saxce outer iterations)")->capture_default_str();
+  app.add_option("--max-iter", options.max_iterations, "NSGS sweep limit (newton: of its NSGS warm-up; ipopt, nlopt: De Saxce outer iterations; lemke: pivots over all its runs)")->capture_default_str();
   app.add_option("--relaxation", options.relaxation, "NSGS over-relaxation factor in (0, 2)")->capture_default_str();
   app.add_option("--order", order, "NSGS sweep order: random, forward, symmetric")->capture_default_str();
   app.add_option("--sweep-seed", options.seed, "seed of the random sweep order")->capture_default_str();
