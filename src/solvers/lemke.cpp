@@ -12,6 +12,17 @@
 // Sticking: s = 0 and u_t = 0; sliding with u_t > 0: a = 0, b = μ r_n, s = u_t; this is
 // exactly r_t = −μ r_n sign(u_t). A frictionless contact keeps the first pair only; a held
 // (bilateral) contact has r_n = p − m with ũ_n ⟂ p and −ũ_n ⟂ m, i.e. ũ_n = 0, r_n free.
+// The same law in a second form (ConeForm::kShiftedBox), three variables per contact:
+// r_t = a − μ r_n with a ∈ [0, 2μ r_n],
+//     u_t + σ      ≥ 0  ⟂  a ≥ 0
+//     2μ r_n − a   ≥ 0  ⟂  σ ≥ 0
+// (stick: 0 < a < 2μ r_n, σ = 0, u_t = 0; slide with u_t > 0: a = 0; with u_t < 0:
+// a = 2μ r_n, σ = −u_t). In the first form a sticking contact has a or b at zero with its
+// row u_t ± s also at zero: one degenerate basic variable per sticking contact, and a
+// static packing is mostly sticking contacts. In this one a sticking contact is not
+// degenerate, so fewer ties reach the floating-point lexicographic rule. Its matrix is
+// not copositive, so Lemke's theory (a ray proves infeasibility) is lost: it is a
+// fallback, run after the first form's paths have failed.
 //
 // The velocities stay free unknowns instead of being eliminated into W = H M⁻¹ Hᵀ:
 //     v − M⁻¹Hᵀ r = v_free,   ũ = H v + offset,
@@ -48,6 +59,9 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 using solvers_internal::MatrixForm;
 using solvers_internal::MatrixFormOf;
 
+// The complementarity form of a frictional contact's law (the table at the top).
+enum class ConeForm { kSlipSpeed, kShiftedBox };
+
 // The complementarity rows and variables of the contact laws (the table at the top).
 struct Encoding {
   Triplets impulse;   // r = T z: (unknown, variable, coefficient)
@@ -57,7 +71,7 @@ struct Encoding {
   int variables = 0;
 };
 
-Encoding Encode(const MatrixForm& k) {
+Encoding Encode(const MatrixForm& k, ConeForm form) {
   Encoding enc;
   for (int c = 0; c < static_cast<int>(k.laws.size()); ++c) {
     const int n = k.per_contact * c, t = n + 1, z = enc.variables;
@@ -71,6 +85,13 @@ Encoding Encode(const MatrixForm& k) {
       enc.velocity.emplace_back(z, n, 1.0);
       enc.variables += 1;
       enc.cone_row.push_back(0);
+    } else if (form == ConeForm::kShiftedBox) {  // variables r_n, a, σ at z … z+2
+      const double mu = k.laws[c].mu;
+      enc.impulse.insert(enc.impulse.end(), {{n, z, 1.0}, {t, z + 1, 1.0}, {t, z, -mu}});
+      enc.velocity.insert(enc.velocity.end(), {{z, n, 1.0}, {z + 1, t, 1.0}});
+      enc.coupling.insert(enc.coupling.end(), {{z + 1, z + 2, 1.0}, {z + 2, z, 2.0 * mu}, {z + 2, z + 1, -1.0}});
+      enc.variables += 3;
+      enc.cone_row.insert(enc.cone_row.end(), {0, 0, 1});
     } else {  // variables r_n, a, b, s at z … z+3
       enc.impulse.insert(enc.impulse.end(), {{n, z, 1.0}, {t, z + 1, 1.0}, {t, z + 2, -1.0}});
       enc.velocity.insert(enc.velocity.end(), {{z, n, 1.0}, {z + 1, t, 1.0}, {z + 2, t, -1.0}});
@@ -83,8 +104,9 @@ Encoding Encode(const MatrixForm& k) {
   return enc;
 }
 
-// The guess of impulses r as complementarity variables: r_n = p − m, r_t = a − b with
-// a + b ≤ μ r_n (the part of r_t outside the cone is dropped), slip speeds zero.
+// The guess of impulses r as complementarity variables of the slip-speed form: r_n = p − m,
+// r_t = a − b with a + b ≤ μ r_n (the part of r_t outside the cone is dropped), slip
+// speeds zero. (Warm runs use that form only.)
 Eigen::VectorXd StartOf(const MatrixForm& k, const Eigen::VectorXd& r, int variables) {
   Eigen::VectorXd z = Eigen::VectorXd::Zero(variables);
   int v = 0;
@@ -145,25 +167,44 @@ SolveResult Polish(const Problem& problem, const Eigen::VectorXd& impulses, cons
   return SolveWithNewton(from, o);
 }
 
+// The mixed LCP of one complementarity form, and the map r = T z back to impulses.
+struct Posed {
+  Encoding enc;
+  SparseMatrix t;
+  lemke_internal::Mlcp mlcp;
+};
+
+Posed Pose(const MatrixForm& k, ConeForm form) {
+  Posed posed;
+  posed.enc = Encode(k, form);
+  const int unknowns = static_cast<int>(k.h.rows());
+  posed.t = FromTriplets(unknowns, posed.enc.variables, posed.enc.impulse);
+  const SparseMatrix s = FromTriplets(posed.enc.variables, unknowns, posed.enc.velocity);
+  posed.mlcp.p = k.g * posed.t;
+  posed.mlcp.x0 = k.v_free;
+  posed.mlcp.d = s * k.h;
+  posed.mlcp.e_matrix = FromTriplets(posed.enc.variables, posed.enc.variables, posed.enc.coupling);
+  posed.mlcp.e = s * k.offset;
+  return posed;
+}
+
+bool HasFriction(const MatrixForm& k) {
+  if (k.per_contact == 1) return false;
+  return std::any_of(k.laws.begin(), k.laws.end(),
+                     [](const ContactLaw& law) { return law.kind != ConstraintKind::kBilateral && law.mu > 0.0; });
+}
+
 template <class Problem>
 SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
   const auto start = std::chrono::steady_clock::now();
-  const Encoding enc = Encode(k);
   const int unknowns = static_cast<int>(k.h.rows());
-  const SparseMatrix t = FromTriplets(unknowns, enc.variables, enc.impulse);
-  const SparseMatrix s = FromTriplets(enc.variables, unknowns, enc.velocity);
-  lemke_internal::Mlcp mlcp;
-  mlcp.p = k.g * t;
-  mlcp.x0 = k.v_free;
-  mlcp.d = s * k.h;
-  mlcp.e_matrix = FromTriplets(enc.variables, enc.variables, enc.coupling);
-  mlcp.e = s * k.offset;
+  const Posed slip = Pose(k, ConeForm::kSlipSpeed);
   // Runs tried in turn: from the warm start (the problem's guess), then from zero
   // impulses, each with tie tolerances 1e-16, then 1e-14 and 1e-12 (lemke_mlcp.hpp); a
   // path that ends on a ray, cycles or misses the tolerance is followed by the next run.
-  // Last come two perturbed runs (lemke_mlcp.hpp), of 1e-2 and then 1e-1 of the velocity
-  // scale (ξ/Δt for a perturbation): last, so that an answer the plain paths reach is
-  // theirs, the end of the path from zero impulses. On the hyperstatic μ = 0.1
+  // Then come two perturbed runs (lemke_mlcp.hpp), of 1e-2 and then 1e-1 of the velocity
+  // scale (ξ/Δt for a perturbation): after the plain paths, so that an answer the plain
+  // paths reach is theirs, the end of the path from zero impulses. On the hyperstatic μ = 0.1
   // packing the lexicographic order cannot be told in double precision: the impulses are
   // O(1) and the network amplifies their round-off 10⁴–10⁵ times, so the velocities are
   // known to about 1e-11, 1 % of ξ = 1e-9. With perturbations of 1e-3 ξ the four
@@ -171,37 +212,57 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // five. The polished basis then misses the given problem by up to 3e-8 in the
   // impulses, and Newton (newton.cpp) polishes the answer from there on the given
   // problem. Only an answer within the tolerance is reported converged.
+  // Last, on frictional problems, the shifted-box form (top of the file): a path from zero
+  // and a perturbed one of 1e-2. Last, so that every answer of the first form stays
+  // as it was; on three of the 21 openings of the μ = 0.1 sample that the first form
+  // left unresolved, the box form's path from zero solved two exactly, and its perturbed
+  // run with the polish the third.
   // Each run is bounded by 20 pivots per complementarity row and by the caller's
   // max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
   // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
   // take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
   // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
-  const int per_run = std::min(o.max_iterations, 20 * enc.variables + 100);
+  const bool frictional = HasFriction(k);
+  const Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
   SolveResult result;
   SolveReport& report = result.report;
   report.backend = name;
   std::string history;
   int pivots = 0;
-  struct Run { double tie; const char* name; bool warm; double perturbation = 0.0; };
+  struct Run {
+    double tie;
+    const char* name;
+    bool warm;
+    double perturbation = 0.0;
+    ConeForm form = ConeForm::kSlipSpeed;
+  };
   std::vector<Run> runs;
   const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
                          problem.initial_guess.allFinite() && problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
-  const Eigen::VectorXd guess = has_guess ? StartOf(k, problem.initial_guess, enc.variables) : Eigen::VectorXd();
+  const Eigen::VectorXd guess = has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
   if (has_guess) runs.insert(runs.end(), {{1e-16, "1e-16", true}, {1e-14, "1e-14", true}});
   runs.insert(runs.end(), {{1e-16, "1e-16", false}, {1e-14, "1e-14", false}, {1e-12, "1e-12", false},
                            {1e-16, "1e-16", false, 1e-2}, {1e-16, "1e-16", false, 1e-1}});
+  if (frictional) {
+    runs.insert(runs.end(), {{1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox},
+                             {1e-16, "1e-16", false, 1e-2, ConeForm::kShiftedBox}});
+  }
   for (const Run& run : runs) {
     const bool perturbed = run.perturbation > 0.0;
+    const Posed& posed = run.form == ConeForm::kShiftedBox ? box : slip;
+    lemke_internal::Mlcp mlcp = posed.mlcp;
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
-    mlcp.perturbation = perturbed ? PerturbationOf(k, enc, o, run.perturbation) : Eigen::VectorXd();
+    mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation) : Eigen::VectorXd();
+    const int per_run = std::min(o.max_iterations, 20 * posed.enc.variables + 100);
     const lemke_internal::LemkeResult lemke =
         lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);
     pivots += lemke.pivots;
-    Eigen::VectorXd impulses = t * lemke.z;
+    Eigen::VectorXd impulses = posed.t * lemke.z;
     double residual = ComputeResidual(problem, impulses).residual;
     const bool solved = lemke.outcome == lemke_internal::LemkeOutcome::kSolved;
     bool exact = solved;
-    history += (history.empty() ? "" : "; ") + (run.warm ? std::string("warm") : perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) + ", ties " + run.name + ": " +
+    history += (history.empty() ? "" : "; ") + std::string(run.form == ConeForm::kShiftedBox ? "box form, " : "") +
+               (run.warm ? std::string("warm") : perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) + ", ties " + run.name + ": " +
                (solved ? std::string("solved") : std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")") + " after " + std::to_string(lemke.pivots) + " pivots";
     if (perturbed && solved) {
       history += " (without the perturbation, basic values down to " + Scientific(-lemke.polish_violation) + ")";

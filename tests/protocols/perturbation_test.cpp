@@ -271,5 +271,29 @@ TEST(Perturbation, LemkeResolvesAnOpeningWhosePathFromZeroCycles) {
   EXPECT_LE(r.f_crit, 3.007 * (1.0 + 1e-3));
 }
 
+// On the same packing the opening of contact 40–317 (F_cont = 0.022) defeats the
+// slip-speed form: its paths from zero cycle and Newton's polish of the perturbed run
+// stalls (2.4e-11 against 5.3e-12). The shifted-box form (lemke.cpp), whose sticking
+// contacts are not degenerate, solves it on its first path from zero, exactly. The
+// answer must be a solution to round-off and lie in the contact's admissible interval
+// [0, 0.9519] without friction (issue 5's LP,
+// bench/results/compare-fcrit-lp-n500-mu0.1-sample100.csv).
+TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const std::vector<PerturbationTarget> all = ContactTargets(base);
+  ASSERT_GT(all.size(), 133u);
+  const PerturbationTarget& t = all[133];
+  ASSERT_EQ(t.i, 40);
+  ASSERT_EQ(t.j, 317);
+  const PerturbationResult r = Perturb(base, t, o);
+  ASSERT_TRUE(r.resolved) << r.solve.message;
+  EXPECT_NE(r.solve.message.find("; box form, cold, ties 1e-16: solved"), std::string::npos) << r.solve.message;
+  EXPECT_LT(r.solve.residual, 1e-13);
+  EXPECT_GE(r.f_crit, 0.0);
+  EXPECT_LE(r.f_crit, 0.9519 * (1.0 + 1e-3));
+}
+
 }  // namespace
 }  // namespace unjam
