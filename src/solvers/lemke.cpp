@@ -214,9 +214,9 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // problem. Only an answer within the tolerance is reported converged.
   // Last, on frictional problems, the shifted-box form (top of the file): a path from zero
   // and a perturbed one of 1e-2. Last, so that every answer of the first form stays
-  // as it was; on three of the 21 openings of the μ = 0.1 sample that the first form
-  // left unresolved, the box form's path from zero solved two exactly, and its perturbed
-  // run with the polish the third.
+  // as it was. Of the 21 openings of the μ = 0.1 sample that the first form left
+  // unresolved, the box form's path from zero solved 17 exactly, and its perturbed run
+  // with the polish the other 4 (docs/perturbations.md).
   // Each run is bounded by 20 pivots per complementarity row and by the caller's
   // max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
   // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
