@@ -198,7 +198,7 @@ template <class Problem>
 SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
   const auto start = std::chrono::steady_clock::now();
   const int unknowns = static_cast<int>(k.h.rows());
-  const Posed slip = Pose(k, ConeForm::kSlipSpeed);
+  Posed slip = Pose(k, ConeForm::kSlipSpeed);
   // Runs tried in turn: from the warm start (the problem's guess), then from zero
   // impulses, each with tie tolerances 1e-16, then 1e-14 and 1e-12 (lemke_mlcp.hpp); a
   // path that ends on a ray, cycles or misses the tolerance is followed by the next run.
@@ -223,7 +223,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
   // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
   const bool frictional = HasFriction(k);
-  const Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
+  Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
   SolveResult result;
   SolveReport& report = result.report;
   report.backend = name;
@@ -249,8 +249,8 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   }
   for (const Run& run : runs) {
     const bool perturbed = run.perturbation > 0.0;
-    const Posed& posed = run.form == ConeForm::kShiftedBox ? box : slip;
-    lemke_internal::Mlcp mlcp = posed.mlcp;
+    Posed& posed = run.form == ConeForm::kShiftedBox ? box : slip;
+    lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's start and perturbation are set in place
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation) : Eigen::VectorXd();
     const int per_run = std::min(o.max_iterations, 20 * posed.enc.variables + 100);

@@ -254,16 +254,23 @@ TEST(Perturbation, LemkeResolvesEveryShiftOfTheSmallPile) {
 // the lexicographic order of its degenerate bases is below double precision. A perturbed
 // run (lemke.cpp) resolves it. Its admissible interval (issue 5's LP, in
 // bench/results/compare-fcrit-lp-n500-mu0.1-sample100.csv) is [0, 3.007] without friction.
-TEST(Perturbation, LemkeResolvesAnOpeningWhosePathFromZeroCycles) {
+// Opens the `index`-th force-carrying contact of the bundled μ = 0.1 packing (default
+// options), which must be the contact (i, j).
+void OpenContactOfTheMu01Packing(std::size_t index, int i, int j, PerturbationResult& r) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const std::vector<PerturbationTarget> all = ContactTargets(base);
-  ASSERT_GT(all.size(), 27u);
-  const PerturbationTarget& t = all[27];
-  ASSERT_EQ(t.i, 8);
-  ASSERT_EQ(t.j, 108);
-  const PerturbationResult r = Perturb(base, t, o);
+  ASSERT_GT(all.size(), index);
+  const PerturbationTarget& t = all[index];
+  ASSERT_EQ(t.i, i);
+  ASSERT_EQ(t.j, j);
+  r = Perturb(base, t, o);
+}
+
+TEST(Perturbation, LemkeResolvesAnOpeningWhosePathFromZeroCycles) {
+  PerturbationResult r;
+  ASSERT_NO_FATAL_FAILURE(OpenContactOfTheMu01Packing(27, 8, 108, r));
   ASSERT_TRUE(r.resolved) << r.solve.message;
   EXPECT_EQ(r.solve.backend, "lemke");
   EXPECT_NE(r.solve.message.find("cold, ties 1e-16: cycle"), std::string::npos) << r.solve.message;
@@ -279,15 +286,8 @@ TEST(Perturbation, LemkeResolvesAnOpeningWhosePathFromZeroCycles) {
 // [0, 0.9519] without friction (issue 5's LP,
 // bench/results/compare-fcrit-lp-n500-mu0.1-sample100.csv).
 TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
-  PerturbationOptions o;
-  const PerturbationBase base = PreparePerturbations(scene, o);
-  const std::vector<PerturbationTarget> all = ContactTargets(base);
-  ASSERT_GT(all.size(), 133u);
-  const PerturbationTarget& t = all[133];
-  ASSERT_EQ(t.i, 40);
-  ASSERT_EQ(t.j, 317);
-  const PerturbationResult r = Perturb(base, t, o);
+  PerturbationResult r;
+  ASSERT_NO_FATAL_FAILURE(OpenContactOfTheMu01Packing(133, 40, 317, r));
   ASSERT_TRUE(r.resolved) << r.solve.message;
   EXPECT_NE(r.solve.message.find("; box form, cold, ties 1e-16: solved"), std::string::npos) << r.solve.message;
   EXPECT_LT(r.solve.residual, 1e-13);
