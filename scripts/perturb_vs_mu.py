@@ -4,7 +4,13 @@ from each DIR's summary.json and perturbations.csv, written as a Markdown table 
 and a figure (matplotlib): the fraction of openings that are quasi-static, dynamic or
 blocked, ⟨F_crit⟩/⟨F_cont⟩ over the quasi-static ones, and ⟨δ⟩.
 
-Usage: scripts/perturb_vs_mu.py OUTPUT.png DIR [DIR ...]
+A DIR may be followed by `+RERUN.csv`: rows of `unjam perturb` runs (one per perturbation,
+same packing, e.g. openings rerun one by one with `--contact K`) that replace the DIR's rows
+of the same contact (i, j and periodic image). The averages are recomputed from the rows,
+as `unjam perturb` computes them (quasi-static, not rattlers; the ratio's error by the
+delta method, the two means being correlated).
+
+Usage: scripts/perturb_vs_mu.py OUTPUT.png DIR[+RERUN.csv] [DIR[+RERUN.csv] ...]
 """
 import csv
 import json
@@ -29,19 +35,54 @@ def friction_of(packing_file):
     return 0.0
 
 
+def contact_key(row):
+    return (row["i"], row["j"], row["image_x"], row["image_y"])
+
+
+def rows_with_reruns(d, rerun_csv):
+    per = list(csv.DictReader(open(f"{d}/perturbations.csv")))
+    if rerun_csv:
+        reruns = {contact_key(r): r for r in csv.DictReader(open(rerun_csv))}
+        keys = {contact_key(r) for r in per}
+        missing = [k for k in reruns if k not in keys]
+        if missing:
+            sys.exit(f"{rerun_csv}: contacts not in {d}/perturbations.csv: {missing}")
+        per = [reruns.get(contact_key(r), r) for r in per]
+    return per
+
+
+def quasi_static_means(per):
+    """⟨F_crit⟩/⟨F_cont⟩ and ⟨δ⟩ with standard errors over quasi-static, non-rattler rows."""
+    q = [r for r in per if r["status"] == "ok" and r["rattler"] == "0"]
+    n = len(q)
+    if n < 2:
+        return None, None, None, None
+    a = [float(r["f_crit"]) for r in q]
+    b = [float(r["f_reference"]) for r in q]
+    d = [float(r["penetration_depth"]) for r in q]
+    ma, mb, md = sum(a) / n, sum(b) / n, sum(d) / n
+    ratio = ma / mb
+    var = lambda xs, m: sum((x - m) ** 2 for x in xs) / (n - 1)
+    cov = sum((x - ma) * (y - mb) for x, y in zip(a, b)) / (n - 1)
+    ratio_error = math.sqrt(max(var(a, ma) - 2 * ratio * cov + ratio ** 2 * var(b, mb), 0.0) / n) / mb
+    return ratio, ratio_error, md, math.sqrt(var(d, md) / n)
+
+
 def main():
-    out_png, dirs = sys.argv[1], sys.argv[2:]
+    out_png, args = sys.argv[1], sys.argv[2:]
     rows = []
-    for d in dirs:
+    for arg in args:
+        d, _, rerun_csv = arg.partition("+")
         s = json.load(open(f"{d}/summary.json"))
-        per = list(csv.DictReader(open(f"{d}/perturbations.csv")))
+        per = rows_with_reruns(d, rerun_csv)
+        ratio, ratio_error, delta, delta_error = quasi_static_means(per)
         n = len(per)
         count = lambda status: sum(1 for p in per if p["status"] == status)
         rows.append({"packing": re.sub(r"\.unjam$", "", s["file"].split("/")[-1]), "mu": friction_of(s["file"]),
                      "n": n, "selection": s["selection"], "ok": count("ok"), "dynamic": count("dynamic"),
                      "blocked": count("blocked"), "not_converged": count("not-converged"),
-                     "ratio": s["ratio_fcrit_freference"], "ratio_error": s["ratio_error"],
-                     "delta": s["mean_delta"], "delta_error": s["mean_delta_error"], "backend": s["backend"]})
+                     "ratio": ratio, "ratio_error": ratio_error,
+                     "delta": delta, "delta_error": delta_error, "backend": s["backend"]})
     rows.sort(key=lambda r: r["mu"])
     fmt = lambda x, e: "—" if x is None else f"{x:.3f} ± {e:.3f}"
     print("| packing | μ | openings | quasi-static | dynamic | blocked | not resolved | ⟨F_crit⟩/⟨F_cont⟩ (quasi-static) | ⟨δ⟩ (quasi-static) | backend |")
