@@ -62,7 +62,8 @@ void TimeSweeps(benchmark::State& state, const ContactProblem& p) {
   o.tolerance = 1e-300;  // never reached: time a fixed number of sweeps
   o.max_iterations = 100;
   o.check_interval = 100;
-  o.sweep_order = state.range(1) ? SweepOrder::kRandom : SweepOrder::kForward;
+  constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal};
+  o.sweep_order = kOrders[state.range(1)];
   auto solver = MakeSolver("nsgs");
   std::int64_t updates = 0;
   double seconds = 0.0;
@@ -95,10 +96,13 @@ void BM_NsgsSweepsBySize(benchmark::State& state) {
   TimeSweeps(state, DenseProblem(state.range(0) / 100.0, static_cast<int>(state.range(2))));
 }
 
-// Args: μ × 100, random order (1) or forward (0)[, lattice side].
-BENCHMARK(BM_NsgsSweepsJammed3000)->Args({50, 1})->Args({0, 1})->Unit(benchmark::kMillisecond);
+// Args: μ × 100, sweep order (0 forward, 1 random, 2 local)[, lattice side].
+BENCHMARK(BM_NsgsSweepsJammed3000)->Args({50, 1})->Args({0, 1})->Args({50, 2})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweeps)->Args({0, 1})->Args({50, 1})->Args({0, 0})->Args({50, 0})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NsgsSweepsBySize)->Args({50, 1, 56})->Args({50, 1, 80})->Args({50, 1, 112})->Args({50, 1, 160})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsSweepsBySize)
+    ->Args({50, 1, 56})->Args({50, 1, 80})->Args({50, 1, 112})->Args({50, 1, 160})
+    ->Args({50, 2, 56})->Args({50, 2, 80})->Args({50, 2, 112})->Args({50, 2, 160})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace unjam

@@ -7,14 +7,18 @@
 # sweeps per dynamics step; large frictional cells need 2000 (docs/performance.md).
 # REFINE_ITER (default 30000, unjam's) caps the static solve that refines a failed
 # certificate's forces; the rows measured before that existed have 0. Each run checkpoints
-# into bench/results/work/ (git-ignored), so an interrupted run resumes there.
-# Usage: [STEP_ITER=2000] [REFINE_ITER=N] scripts/bench-packing.sh [BUILD_DIR] [N ...]
+# into bench/results/work/ (git-ignored), so an interrupted run resumes there. ORDER=local
+# runs `unjam pack --order local` (cheaper sweeps on large cells) into
+# bench/results/packing-vs-n-local.csv instead.
+# MUS (default "0.1 1") lists the friction coefficients.
+# Usage: [STEP_ITER=2000] [REFINE_ITER=N] [ORDER=local] [MUS="0.1"] scripts/bench-packing.sh [BUILD_DIR] [N ...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 unjam="${1:-$root/build}/unjam"
 shift || true
 [ $# -gt 0 ] && sizes=("$@") || sizes=(500 1000 2000 4000 8000)
-out="$root/bench/results/packing-vs-n.csv"
+order="${ORDER:-random}"
+[ "$order" = random ] && out="$root/bench/results/packing-vs-n.csv" || out="$root/bench/results/packing-vs-n-$order.csv"
 mkdir -p "$(dirname "$out")"
 [ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed,step_iter,refine_iter" >"$out"
 step_iter="${STEP_ITER:-500}"
@@ -22,11 +26,12 @@ refine_iter="${REFINE_ITER:-30000}"
 work="$root/bench/results/work"
 mkdir -p "$work"
 for n in "${sizes[@]}"; do
-  for mu in 0.1 1; do
+  for mu in ${MUS:-0.1 1}; do
     grep -q "^$n,$mu," "$out" && continue
     run="$work/n$n-mu$mu-s$step_iter-r$refine_iter"
+    [ "$order" = random ] || run="$run-$order"
     "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 --step-iter "$step_iter" \
-      --refine-iter "$refine_iter" -o "$run.unjam" --json --quiet >"$run.json" || true
+      --refine-iter "$refine_iter" --order "$order" -o "$run.unjam" --json --quiet >"$run.json" || true
     /usr/bin/python3 - "$run.json" "$n" "$mu" "$step_iter" "$refine_iter" >>"$out" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))

@@ -23,6 +23,7 @@ struct PackFlags {
   double step_tol = 1e-4;
   int step_iter = 500;
   std::string backend = "nsgs";
+  std::string order = "random";  // NSGS sweep order of the steps and the static solves
   double rest_speed = 1e-2;
   int check_iter = 100000;
   int refine_iter = 30000;

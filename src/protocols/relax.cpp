@@ -45,6 +45,7 @@ StaticSolveOptions StaticOptions(const RelaxOptions& o, int max_iterations) {
   solve.backend = o.static_backend;
   solve.solver.tolerance = o.static_tolerance;
   solve.solver.max_iterations = max_iterations;
+  solve.solver.sweep_order = o.sweep_order;
   return solve;
 }
 

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 #include "unjam/problem/kinematics.hpp"
@@ -44,14 +45,93 @@ struct Body {
   double vx, vy, w;
 };
 
-std::vector<Row> MakeRows(const ContactProblem& p) {
+// Where the solver keeps each contact and each body: row `pos` is contact
+// contact_at[pos], body b lives in slot body_slot[b]. The identity except for
+// SweepOrder::kLocal, which lays both out along the contact graph.
+struct Layout {
+  std::vector<int> contact_at;
+  std::vector<int> body_slot;
+};
+
+// Bodies in Cuthill–McKee order (breadth first through the contact graph, from a
+// pseudo-peripheral body, neighbours by increasing degree), which keeps the bodies of
+// neighbouring contacts close in memory; contacts sorted by their bodies' new slots.
+Layout LocalLayout(const ContactProblem& p) {
+  const int nb = p.NumBodies(), nc = p.NumContacts();
+  std::vector<int> start(nb + 1, 0), adjacent;
+  for (const ProblemContact& c : p.contacts) {
+    if (c.body_i >= 0 && c.body_j >= 0) { ++start[c.body_i + 1]; ++start[c.body_j + 1]; }
+  }
+  for (int b = 0; b < nb; ++b) start[b + 1] += start[b];
+  adjacent.resize(start[nb]);
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const ProblemContact& c : p.contacts) {
+    if (c.body_i < 0 || c.body_j < 0) continue;
+    adjacent[fill[c.body_i]++] = c.body_j;
+    adjacent[fill[c.body_j]++] = c.body_i;
+  }
+  auto degree = [&](int b) { return start[b + 1] - start[b]; };
+  for (int b = 0; b < nb; ++b) {
+    std::stable_sort(adjacent.begin() + start[b], adjacent.begin() + start[b + 1],
+                     [&](int x, int y) { return degree(x) < degree(y); });
+  }
+  std::vector<int> order, level(nb, -1);
+  order.reserve(nb);
+  auto breadth_first = [&](int root) {  // appends root's component to `order`
+    const std::size_t first = order.size();
+    level[root] = 0;
+    order.push_back(root);
+    for (std::size_t q = first; q < order.size(); ++q) {
+      const int b = order[q];
+      for (int e = start[b]; e < start[b + 1]; ++e) {
+        if (level[adjacent[e]] >= 0) continue;
+        level[adjacent[e]] = level[b] + 1;
+        order.push_back(adjacent[e]);
+      }
+    }
+    return first;
+  };
+  for (int b = 0; b < nb; ++b) {
+    if (level[b] >= 0) continue;
+    const std::size_t first = breadth_first(b);  // once to find a far body, then from it
+    const int far = order.back();
+    for (std::size_t q = first; q < order.size(); ++q) level[order[q]] = -1;
+    order.resize(first);
+    breadth_first(far);
+  }
+  Layout layout;
+  layout.body_slot.resize(nb);
+  for (int slot = 0; slot < nb; ++slot) layout.body_slot[order[slot]] = slot;
+  auto key = [&](int k) {
+    const ProblemContact& c = p.contacts[k];
+    const int si = c.body_i >= 0 ? layout.body_slot[c.body_i] : nb;
+    const int sj = c.body_j >= 0 ? layout.body_slot[c.body_j] : nb;
+    return std::min(si, sj);
+  };
+  layout.contact_at.resize(nc);
+  std::iota(layout.contact_at.begin(), layout.contact_at.end(), 0);
+  std::stable_sort(layout.contact_at.begin(), layout.contact_at.end(), [&](int a, int b) { return key(a) < key(b); });
+  return layout;
+}
+
+Layout MakeLayout(const ContactProblem& p, SweepOrder order) {
+  if (order == SweepOrder::kLocal) return LocalLayout(p);
+  Layout layout;
+  layout.contact_at.resize(p.NumContacts());
+  std::iota(layout.contact_at.begin(), layout.contact_at.end(), 0);
+  layout.body_slot.resize(p.NumBodies());
+  std::iota(layout.body_slot.begin(), layout.body_slot.end(), 0);
+  return layout;
+}
+
+std::vector<Row> MakeRows(const ContactProblem& p, const Layout& layout) {
   const int dummy = p.NumBodies();
   std::vector<Row> rows(p.NumContacts());
-  for (int k = 0; k < p.NumContacts(); ++k) {
-    const ProblemContact& c = p.contacts[k];
-    Row& r = rows[k];
-    r.bi = c.body_i >= 0 ? c.body_i : dummy;
-    r.bj = c.body_j >= 0 ? c.body_j : dummy;
+  for (int pos = 0; pos < p.NumContacts(); ++pos) {
+    const ProblemContact& c = p.contacts[layout.contact_at[pos]];
+    Row& r = rows[pos];
+    r.bi = c.body_i >= 0 ? layout.body_slot[c.body_i] : dummy;
+    r.bj = c.body_j >= 0 ? layout.body_slot[c.body_j] : dummy;
     r.nx = c.normal.x();
     r.ny = c.normal.y();
     r.arm_i = c.arm_i;
@@ -82,25 +162,31 @@ struct State {
   double cell_inv_mass = 0.0;
 };
 
-State InitialState(const ContactProblem& p) {
+Eigen::VectorXd Impulses(const ContactProblem& p, const Layout& layout, const State& s) {
+  Eigen::VectorXd r(p.NumUnknowns());
+  for (int pos = 0; pos < p.NumContacts(); ++pos) {
+    const int k = layout.contact_at[pos];
+    r[k * p.UnknownsPerContact()] = s.rn[pos];
+    if (p.frictional) r[2 * k + 1] = s.rt[pos];
+  }
+  return r;
+}
+
+State InitialState(const ContactProblem& p, const Layout& layout) {
   State s;
   const int nc = p.NumContacts();
   s.rn.assign(nc, 0.0);
   s.rt.assign(nc, 0.0);
   if (p.initial_guess.size() == p.NumUnknowns()) {
-    for (int k = 0; k < nc; ++k) {
-      s.rn[k] = p.initial_guess[k * p.UnknownsPerContact()];
-      if (p.frictional) s.rt[k] = p.initial_guess[k * 2 + 1];
+    for (int pos = 0; pos < nc; ++pos) {
+      const int k = layout.contact_at[pos];
+      s.rn[pos] = p.initial_guess[k * p.UnknownsPerContact()];
+      if (p.frictional) s.rt[pos] = p.initial_guess[k * 2 + 1];
     }
   }
-  Eigen::VectorXd r(p.NumUnknowns());
-  for (int k = 0; k < nc; ++k) {
-    r[k * p.UnknownsPerContact()] = s.rn[k];
-    if (p.frictional) r[2 * k + 1] = s.rt[k];
-  }
-  const VelocityState v = EndVelocityState(p, r);
+  const VelocityState v = EndVelocityState(p, Impulses(p, layout, s));
   s.body.resize(p.NumBodies() + 1, Body{0.0, 0.0, 0.0});
-  for (int b = 0; b < p.NumBodies(); ++b) s.body[b] = {v.body[b][0], v.body[b][1], v.body[b][2]};
+  for (int b = 0; b < p.NumBodies(); ++b) s.body[layout.body_slot[b]] = {v.body[b][0], v.body[b][1], v.body[b][2]};
   s.cell_rate = v.cell_rate;
   s.cell_inv_mass = p.cell ? p.cell->inv_mass : 0.0;
   return s;
@@ -160,31 +246,23 @@ void Sweep(const std::vector<Row>& rows, const std::vector<std::uint32_t>& order
   for (std::uint32_t k : order) UpdateContact<kFrictional>(rows[k], static_cast<int>(k), omega, s);
 }
 
-Eigen::VectorXd Impulses(const ContactProblem& p, const State& s) {
-  Eigen::VectorXd r(p.NumUnknowns());
-  for (int k = 0; k < p.NumContacts(); ++k) {
-    r[k * p.UnknownsPerContact()] = s.rn[k];
-    if (p.frictional) r[2 * k + 1] = s.rt[k];
-  }
-  return r;
-}
-
 }  // namespace
 
 SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
   Validate(options);
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<Row> rows = MakeRows(p);
-  State state = InitialState(p);
+  const Layout layout = MakeLayout(p, options.sweep_order);
+  const std::vector<Row> rows = MakeRows(p, layout);
+  State state = InitialState(p, layout);
   SolveResult result;
   result.report.backend = Name();
   auto sweep = [&](const std::vector<std::uint32_t>& order) {
     if (p.frictional) Sweep<true>(rows, order, options.relaxation, state);
     else Sweep<false>(rows, order, options.relaxation, state);
   };
-  auto residual = [&] { return ComputeResidual(p, Impulses(p, state)).residual; };
+  auto residual = [&] { return ComputeResidual(p, Impulses(p, layout, state)).residual; };
   solvers_internal::RunSweeps(p.NumContacts(), options, sweep, residual, result.report);
-  result.impulses = Impulses(p, state);
+  result.impulses = Impulses(p, layout, state);
   result.report.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

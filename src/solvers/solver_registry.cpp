@@ -29,12 +29,13 @@ const char* ToString(SweepOrder order) {
     case SweepOrder::kRandom: return "random";
     case SweepOrder::kForward: return "forward";
     case SweepOrder::kSymmetric: return "symmetric";
+    case SweepOrder::kLocal: return "local";
   }
   return "unknown";
 }
 
 SweepOrder SweepOrderFromString(const std::string& name) {
-  for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric}) {
+  for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal}) {
     if (name == ToString(o)) return o;
   }
   throw std::invalid_argument("unknown sweep order '" + name + "' (random, forward, symmetric)");

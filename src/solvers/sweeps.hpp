@@ -14,6 +14,28 @@
 
 namespace unjam::solvers_internal {
 
+template <class It>
+void Shuffle(It first, std::uint32_t n, SplitMix64& rng) {
+  for (std::uint32_t i = n; i > 1; --i) std::swap(first[i - 1], first[rng.Below(i)]);
+}
+
+// kLocal: the blocks of kLocalBlock consecutive positions in a random order, each block in
+// its own order, so that the hardware prefetcher streams its rows (a random order inside
+// the blocks costs 2.5× more per update once the contacts outgrow the cache).
+inline void ShuffleBlocks(SplitMix64& rng, std::vector<std::uint32_t>& order) {
+  const std::uint32_t n = static_cast<std::uint32_t>(order.size());
+  const std::uint32_t block = kLocalBlock;
+  std::vector<std::uint32_t> blocks((n + block - 1) / block);
+  std::iota(blocks.begin(), blocks.end(), 0u);
+  Shuffle(blocks.begin(), static_cast<std::uint32_t>(blocks.size()), rng);
+  std::uint32_t at = 0;
+  for (std::uint32_t b : blocks) {
+    const std::uint32_t begin = b * block, end = std::min(n, begin + block);
+    for (std::uint32_t k = begin; k < end; ++k) order[at + k - begin] = k;
+    at += end - begin;
+  }
+}
+
 inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<std::uint32_t>& order) {
   const std::uint32_t n = static_cast<std::uint32_t>(order.size());
   switch (kind) {
@@ -23,8 +45,10 @@ inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<s
       if (sweep > 0) std::reverse(order.begin(), order.end());
       return;
     case SweepOrder::kRandom:
-      for (std::uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.Below(i)]);
+      Shuffle(order.begin(), n, rng);
       return;
+    case SweepOrder::kLocal:
+      return ShuffleBlocks(rng, order);
   }
 }
 

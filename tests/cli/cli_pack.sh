@@ -56,6 +56,24 @@ cmp -s "$work/a.unjam" "$work/r.unjam" || fail "resumed run differs from the uni
 [ "$code" -eq 2 ] || fail "checkpoint with other parameters: exit $code, expected 2"
 grep -q "mu 0.6" "$work/m.err" || fail "the error does not name the differing parameter: $(cat "$work/m.err")"
 
+# --order local: another sweep order, so another packing, but as static, as reproducible,
+# and recorded with its parameters; an unknown order is refused.
+for run in l1 l2; do
+  "$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 --order local -o "$work/$run.unjam" --json --quiet >"$work/$run.json" || fail "pack --order local: exit $?"
+done
+cmp -s "$work/l1.unjam" "$work/l2.unjam" || fail "--order local: same seed, different packings"
+grep -q '^provenance.*--order local' "$work/l1.unjam" || fail "--order local not in the provenance: $(grep provenance "$work/l1.unjam")"
+/usr/bin/python3 - "$work/l1.json" <<'PY' || fail "pack --order local --json"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["jammed"] and d["static_solve"]["converged"] and d["equilibrium_residual"] < 1e-8, d
+assert d["parameters"]["order"] == "local", d["parameters"]
+PY
+"$unjam" pack --protocol gravity --n 12 --order zigzag -o "$work/z.unjam" 2>"$work/err"; code=$?
+[ "$code" -eq 2 ] || fail "--order zigzag: exit $code, expected 2"
+grep -q -- "--order" "$work/err" || fail "the error does not name --order: $(cat "$work/err")"
+[ ! -e "$work/z.unjam" ] || fail "--order zigzag left a file"
+
 "$unjam" pack --protocol gravity --n 0 -o "$work/c.unjam" 2>"$work/err"; code=$?
 [ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"
 [ ! -e "$work/c.unjam" ] || fail "--n 0 left a file"

@@ -50,6 +50,7 @@ struct RelaxOptions {
   int max_steps = 1000000;
   std::string static_backend = "nsgs";    // of the static check (the steps use the simulation's)
   double static_tolerance = 1e-10;
+  SweepOrder sweep_order = SweepOrder::kRandom;  // of the static solves (NSGS)
   int static_max_iterations = 100000;
   int refine_max_iterations = 0;         // 3a's refining static solve; 0 = none
   double equilibrium_tolerance = 1e-8;

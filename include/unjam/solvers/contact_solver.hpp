@@ -25,7 +25,13 @@ namespace unjam {
 enum class SolveStatus { kConverged, kIterationLimit, kNumericalFailure, kUnsupported, kRelaxedModel };
 const char* ToString(SolveStatus status);
 
-enum class SweepOrder { kRandom, kForward, kSymmetric };
+// kLocal: NSGS renumbers the bodies along the contact graph (Cuthill–McKee) and sorts the
+// contacts by their bodies, then sweeps blocks of kLocalBlock neighbouring contacts in a
+// random order, each block front to back: random at the scale of blocks, but each block
+// reads one small region of memory in sequence (a random order over all contacts waits for
+// memory once the contacts outgrow the cache; docs/performance.md).
+enum class SweepOrder { kRandom, kForward, kSymmetric, kLocal };
+inline constexpr int kLocalBlock = 64;
 const char* ToString(SweepOrder order);
 SweepOrder SweepOrderFromString(const std::string& name);  // throws std::invalid_argument
 
