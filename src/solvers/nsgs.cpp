@@ -53,62 +53,77 @@ struct Layout {
   std::vector<int> body_slot;
 };
 
-// Bodies in Cuthill–McKee order (breadth first through the contact graph, from a
-// pseudo-peripheral body, neighbours by increasing degree), which keeps the bodies of
-// neighbouring contacts close in memory; contacts sorted by their bodies' new slots.
-Layout LocalLayout(const ContactProblem& p) {
-  const int nb = p.NumBodies(), nc = p.NumContacts();
-  std::vector<int> start(nb + 1, 0), adjacent;
+// The bodies' contact graph in compressed rows, each body's neighbours by increasing
+// degree (Cuthill–McKee's rule). Contacts with a side without degrees of freedom add no edge.
+struct BodyGraph {
+  std::vector<int> start, adjacent;
+  int Degree(int b) const { return start[b + 1] - start[b]; }
+};
+
+BodyGraph MakeBodyGraph(const ContactProblem& p) {
+  const int nb = p.NumBodies();
+  BodyGraph g;
+  g.start.assign(nb + 1, 0);
   for (const ProblemContact& c : p.contacts) {
-    if (c.body_i >= 0 && c.body_j >= 0) { ++start[c.body_i + 1]; ++start[c.body_j + 1]; }
+    if (c.body_i >= 0 && c.body_j >= 0) { ++g.start[c.body_i + 1]; ++g.start[c.body_j + 1]; }
   }
-  for (int b = 0; b < nb; ++b) start[b + 1] += start[b];
-  adjacent.resize(start[nb]);
-  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int b = 0; b < nb; ++b) g.start[b + 1] += g.start[b];
+  g.adjacent.resize(g.start[nb]);
+  std::vector<int> fill(g.start.begin(), g.start.end() - 1);
   for (const ProblemContact& c : p.contacts) {
     if (c.body_i < 0 || c.body_j < 0) continue;
-    adjacent[fill[c.body_i]++] = c.body_j;
-    adjacent[fill[c.body_j]++] = c.body_i;
+    g.adjacent[fill[c.body_i]++] = c.body_j;
+    g.adjacent[fill[c.body_j]++] = c.body_i;
   }
-  auto degree = [&](int b) { return start[b + 1] - start[b]; };
   for (int b = 0; b < nb; ++b) {
-    std::stable_sort(adjacent.begin() + start[b], adjacent.begin() + start[b + 1],
-                     [&](int x, int y) { return degree(x) < degree(y); });
+    std::stable_sort(g.adjacent.begin() + g.start[b], g.adjacent.begin() + g.start[b + 1],
+                     [&](int x, int y) { return g.Degree(x) < g.Degree(y); });
   }
-  std::vector<int> order, level(nb, -1);
+  return g;
+}
+
+// Bodies in Cuthill–McKee order: breadth first through each connected component, from the
+// last body reached by a first breadth-first pass (a pseudo-peripheral body). Bodies of
+// neighbouring contacts end up close in memory.
+std::vector<int> CuthillMcKee(const BodyGraph& g, int nb) {
+  std::vector<int> order;
+  std::vector<bool> seen(nb, false);
   order.reserve(nb);
   auto breadth_first = [&](int root) {  // appends root's component to `order`
-    const std::size_t first = order.size();
-    level[root] = 0;
+    seen[root] = true;
     order.push_back(root);
-    for (std::size_t q = first; q < order.size(); ++q) {
-      const int b = order[q];
-      for (int e = start[b]; e < start[b + 1]; ++e) {
-        if (level[adjacent[e]] >= 0) continue;
-        level[adjacent[e]] = level[b] + 1;
-        order.push_back(adjacent[e]);
+    for (std::size_t q = order.size() - 1; q < order.size(); ++q) {
+      for (int e = g.start[order[q]]; e < g.start[order[q] + 1]; ++e) {
+        if (seen[g.adjacent[e]]) continue;
+        seen[g.adjacent[e]] = true;
+        order.push_back(g.adjacent[e]);
       }
     }
-    return first;
   };
   for (int b = 0; b < nb; ++b) {
-    if (level[b] >= 0) continue;
-    const std::size_t first = breadth_first(b);  // once to find a far body, then from it
+    if (seen[b]) continue;
+    const std::size_t first = order.size();
+    breadth_first(b);
     const int far = order.back();
-    for (std::size_t q = first; q < order.size(); ++q) level[order[q]] = -1;
+    for (std::size_t q = first; q < order.size(); ++q) seen[order[q]] = false;
     order.resize(first);
     breadth_first(far);
   }
+  return order;
+}
+
+// kLocal's layout: bodies in Cuthill–McKee order, contacts sorted by their first body's slot.
+Layout LocalLayout(const ContactProblem& p) {
+  const int nb = p.NumBodies();
+  const std::vector<int> order = CuthillMcKee(MakeBodyGraph(p), nb);
   Layout layout;
   layout.body_slot.resize(nb);
   for (int slot = 0; slot < nb; ++slot) layout.body_slot[order[slot]] = slot;
   auto key = [&](int k) {
     const ProblemContact& c = p.contacts[k];
-    const int si = c.body_i >= 0 ? layout.body_slot[c.body_i] : nb;
-    const int sj = c.body_j >= 0 ? layout.body_slot[c.body_j] : nb;
-    return std::min(si, sj);
+    return std::min(c.body_i >= 0 ? layout.body_slot[c.body_i] : nb, c.body_j >= 0 ? layout.body_slot[c.body_j] : nb);
   };
-  layout.contact_at.resize(nc);
+  layout.contact_at.resize(p.NumContacts());
   std::iota(layout.contact_at.begin(), layout.contact_at.end(), 0);
   std::stable_sort(layout.contact_at.begin(), layout.contact_at.end(), [&](int a, int b) { return key(a) < key(b); });
   return layout;
