@@ -35,10 +35,12 @@ const char* ToString(SweepOrder order) {
 }
 
 SweepOrder SweepOrderFromString(const std::string& name) {
+  std::string known;
   for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal}) {
     if (name == ToString(o)) return o;
+    known += (known.empty() ? "" : ", ") + std::string(ToString(o));
   }
-  throw std::invalid_argument("unknown sweep order '" + name + "' (random, forward, symmetric)");
+  throw std::invalid_argument("unknown sweep order '" + name + "' (" + known + ")");
 }
 
 const char* ToString(NloptAlgorithm algorithm) {
