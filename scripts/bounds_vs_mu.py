@@ -17,7 +17,16 @@ results = os.path.join(root, "bench", "results", "bounds-vs-mu.csv")
 done = {}
 if os.path.exists(results):
     for r in csv.DictReader(open(results)):
-        done[r["packing"]] = {k: (r[k] if k == "packing" else float(r[k])) for k in r}
+        done[r["packing"]] = {k: (r[k] if k == "packing" else int(r[k]) if r[k].isdigit() else float(r[k])) for k in r}
+
+
+def write_rows(rows):  # as we go, keeping the measured rows not yet reached
+    with open(results, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+
+
 rows = []
 for name in packings:
     if name in done:
@@ -33,10 +42,8 @@ for name in packings:
                  "unbounded": d["unbounded_or_failed"], "no_frictionless_equilibrium": d["no_frictionless_equilibrium"],
                  "seconds": d["seconds"]})
     print(rows[-1], flush=True)
-    with open(results, "w", newline="") as f:  # as we go
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    write_rows(rows + [done[n] for n in packings if n in done and n not in {r["packing"] for r in rows}])
+write_rows(rows)
 
 import matplotlib
 matplotlib.use("Agg")

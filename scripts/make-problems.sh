@@ -10,14 +10,17 @@ pattern="${2:-}"
 cd "$root"
 mkdir -p problems/logs
 
-make() {  # make NAME ARGS...
+pack() {  # pack NAME ARGS...: unjam pack ARGS into problems/NAME.unjam, unless it exists
   local name="$1"; shift
   [[ -z "$pattern" || "$name" == *$pattern* ]] || return 0
   [ -e "problems/$name.unjam" ] && { echo "keep problems/$name.unjam"; return 0; }
-  echo "make problems/$name.unjam: unjam pack $* --refine-iter 0"
-  # --refine-iter 0: the bundled packings were made before certificates refined the
-  # last step's forces (docs/packings.md); without it they would pass earlier, elsewhere.
-  "$unjam" pack "$@" --refine-iter 0 -o "problems/$name.unjam" --json --quiet >"problems/logs/$name.json"
+  echo "make problems/$name.unjam: unjam pack $*"
+  "$unjam" pack "$@" -o "problems/$name.unjam" --json --quiet >"problems/logs/$name.json"
+}
+# --refine-iter 0: these bundled packings were made before certificates refined the last
+# step's forces (docs/packings.md); without it they would pass earlier, elsewhere.
+make() {  # make NAME ARGS...
+  pack "$@" --refine-iter 0
 }
 
 # Homogeneous packings at constant external pressure P_ext = 1, fully periodic.
@@ -25,36 +28,11 @@ for mu in 0.5 1 10 0.1 0.01; do
   make "pressure-n500-mu$mu" --protocol pressure --n 500 --mu "$mu" --seed 1
 done
 
-# The frictionless packing is made by the previous protocol (quench and prove: steps from
-# rest solved to 1e-10), that of commit d757631, built in a temporary worktree. The current
-# protocol's certificate does not bring a frictionless N = 500 packing to a rigid state:
-# loose NSGS dynamics stalls in a hypostatic state carried by its own unconverged impulses
-# (docs/performance.md). The file passes today's static checks all the same
-# (tests/problems). Needs git and a few minutes of build.
-# Today's code certifies a frictionless packing with tight steps, `--backend newton
-# --step-tol 1e-8` (451 s), but another one: the bundled file, on which the frictionless
-# results in docs/ were measured, is kept.
-old_protocol=d757631
-old_unjam=""
-build_old_unjam() {
-  [ -n "$old_unjam" ] && return 0
-  old_tree="$(mktemp -d)"
-  git -C "$root" worktree add --detach "$old_tree/src" "$old_protocol" >/dev/null
-  cmake -S "$old_tree/src" -B "$old_tree/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-    -DUNJAM_BUILD_TESTS=OFF -DUNJAM_BUILD_BENCH=OFF >/dev/null
-  cmake --build "$old_tree/build" --target unjam >/dev/null
-  old_unjam="$old_tree/build/unjam"
-  trap 'git -C "$root" worktree remove --force "$old_tree/src"; rm -rf "$old_tree"' EXIT
-}
-make_old() {  # make_old NAME ARGS...: as make, with the unjam of $old_protocol
-  local name="$1"; shift
-  [[ -z "$pattern" || "$name" == *$pattern* ]] || return 0
-  [ -e "problems/$name.unjam" ] && { echo "keep problems/$name.unjam"; return 0; }
-  build_old_unjam
-  echo "make problems/$name.unjam: unjam ($old_protocol) pack $*"
-  "$old_unjam" pack "$@" -o "problems/$name.unjam" --json --quiet >"problems/logs/$name.json"
-}
-make_old pressure-n500-mu0 --protocol pressure --n 500 --mu 0 --seed 1
+# The frictionless packing is the newest: `--mu 0` picks newton steps solved to 1e-8 (the
+# defaults of --backend auto and --step-tol), with which the certificates pass; loose NSGS
+# steps stall at the isostatic point (docs/performance.md). Made after refinement became
+# the default, it keeps it.
+pack pressure-n500-mu0 --protocol pressure --n 500 --mu 0 --seed 1
 # N = 3000 was made with 2000 NSGS sweeps per dynamics step, like the tall pile below:
 # without refined certificates, 500 left no certificate passing in 15 000 steps (with
 # them the defaults certify it, docs/performance.md).

@@ -5,10 +5,6 @@
 
 namespace unjam {
 
-namespace {
-constexpr double kDimension = 2.0;
-}  // namespace
-
 EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact>& contacts,
                                    const std::vector<Eigen::Vector2d>& forces) {
   EquilibriumReport out;

@@ -190,6 +190,7 @@ ReducedResponse Reduce(const PerturbationBase& base, const PerturbationResult& r
   out.cell_strain = result.cell_strain;
   out.pressure_change = result.pressure_change;
   out.inertia_ratio = result.inertia_ratio;
+  out.inertial_force = result.inertial_force;
   out.equilibrium_residual = result.equilibrium_residual;
   out.residual = result.solve.residual;
   out.iterations = result.solve.iterations;

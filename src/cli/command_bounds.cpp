@@ -80,8 +80,9 @@ struct Comparison {
 int InsideInterval(const ContactBounds& b, const PerturbationResult& r) {
   if (!r.ok()) return -1;
   if (!b.min.ok() || !b.max_without_friction.ok()) return 0;
-  // Both sides carry the LP's and the perturbation's tolerances, about 1e-6 relative.
-  const double tol = 1e-6 * (std::abs(b.max_without_friction.value) + b.reference);
+  // Both sides carry the LP's and the perturbation's tolerances, about 1e-6 relative, and
+  // F_crit its inertial part (a frictionless opening's F_crit is F_cont plus exactly that).
+  const double tol = 1e-6 * (std::abs(b.max_without_friction.value) + b.reference) + r.inertial_force;
   return r.f_crit >= b.min.value - tol && r.f_crit <= b.max_without_friction.value + tol ? 1 : 0;
 }
 

@@ -20,9 +20,9 @@ struct PackFlags {
   std::optional<double> initial_fraction;
   std::uint64_t seed = 1;
   std::optional<double> dt;
-  double step_tol = 1e-4;
+  std::optional<double> step_tol;  // default: the backend's (StepTolerance)
   int step_iter = 500;
-  std::string backend = "nsgs";
+  std::string backend = "auto";     // auto: newton without friction, nsgs with it
   std::string order = "random";  // NSGS sweep order of the steps and the static solves
   double rest_speed = 1e-2;
   int check_iter = 100000;
@@ -38,6 +38,8 @@ struct PackFlags {
   // Every parameter that decides the packing, defaults resolved: stored in the file (as a
   // command line that remakes it) and in checkpoints (a resumed run must match it).
   nlohmann::json Parameters() const;
+  std::string Backend() const;          // --backend with auto resolved
+  double StepTolerance() const;         // --step-tol, or the resolved backend's default
 };
 
 int RunPack(const PackFlags& flags);

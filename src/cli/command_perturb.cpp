@@ -131,13 +131,13 @@ std::string TargetName(const PerturbationTarget& t) {
 std::string PerturbationsCsv(const std::map<int, ReducedResponse>& records) {
   std::ostringstream os;
   os << "index,kind,i,j,image_x,image_y,x,y,axis_x,axis_y,f_reference,f_crit,penetration_depth,"
-        "cell_strain,pressure_change,inertia_ratio,equilibrium_residual,iterations,residual,status,rattler,seconds\n";
+        "cell_strain,pressure_change,inertia_ratio,inertial_force,equilibrium_residual,iterations,residual,status,rattler,seconds\n";
   for (const auto& [k, r] : records) {
     const bool shift = r.target.kind == PerturbationTarget::Kind::kParticleShift;
-    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%d,%.6e,%s,%d,%.4f\n",
+    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%.6e,%d,%.6e,%s,%d,%.4f\n",
                  k, shift ? "shift" : "opening", r.target.i, r.target.j, r.target.image[0], r.target.image[1],
                  r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y(), r.f_reference, r.f_crit, r.penetration_depth,
-                 r.cell_strain, r.pressure_change, r.inertia_ratio, r.equilibrium_residual, r.iterations,
+                 r.cell_strain, r.pressure_change, r.inertia_ratio, r.inertial_force, r.equilibrium_residual, r.iterations,
                  r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds);
   }
   return os.str();

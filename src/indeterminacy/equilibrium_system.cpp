@@ -8,8 +8,6 @@ namespace unjam {
 
 namespace {
 
-constexpr double kDimension = 2.0;
-
 // Rows of particle i: force x, force y and (with friction) torque; −1 if it need not balance.
 std::vector<int> NumberRows(const Scene& scene, const std::vector<char>& free,
                             const std::vector<int>& contact_count, int per_particle,

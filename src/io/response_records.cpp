@@ -48,6 +48,7 @@ nlohmann::json ToJson(const ReducedResponse& r) {
           {"f_crit", r.f_crit}, {"f_reference", r.f_reference},
           {"penetration_depth", r.penetration_depth}, {"cell_strain", r.cell_strain},
           {"pressure_change", r.pressure_change}, {"inertia_ratio", r.inertia_ratio},
+          {"inertial_force", r.inertial_force},
           {"equilibrium_residual", r.equilibrium_residual}, {"residual", r.residual},
           {"seconds", r.seconds}, {"iterations", r.iterations}, {"status", r.status},
           {"message", r.message},
@@ -69,6 +70,8 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.cell_strain = j.at("cell_strain").get<double>();
     r.pressure_change = j.at("pressure_change").get<double>();
     r.inertia_ratio = j.at("inertia_ratio").get<double>();
+    const nlohmann::json inertial = j.value("inertial_force", nlohmann::json());  // absent in earlier records
+    r.inertial_force = inertial.is_number() ? inertial.get<double>() : std::nan("");
     r.equilibrium_residual = j.at("equilibrium_residual").get<double>();
     r.residual = j.at("residual").get<double>();
     r.seconds = j.at("seconds").get<double>();

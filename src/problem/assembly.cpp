@@ -8,8 +8,6 @@ namespace unjam {
 
 namespace {
 
-constexpr double kDimension = 2.0;
-
 // Bodies: free, non-prescribed particles. Prescribed particles have a known velocity.
 void NumberBodies(const Scene& scene, AssembledProblem& out) {
   const int n = static_cast<int>(scene.particles.size());

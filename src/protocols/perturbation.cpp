@@ -166,6 +166,21 @@ double InertiaRatio(const PerturbationBase& base, const std::vector<Vec2>& d, do
   return base.mean_contact_force > 0.0 ? largest / base.mean_contact_force : largest;
 }
 
+// The inertial work over the step, over ξ: grains, and the cell under a pressure bath (its
+// strain ε = ΔL/L moves with mass M_λ D V, docs/method.md).
+double InertialForce(const PerturbationBase& base, const PerturbationResult& r, double gap, double dt) {
+  double work = 0.0;
+  for (std::size_t i = 0; i < r.displacement.size(); ++i) {
+    const Particle& p = base.scene.particles[i];
+    work += p.Mass() * r.displacement[i].squaredNorm() + p.Inertia() * r.rotation[i] * r.rotation[i];
+  }
+  if (const auto& bath = base.scene.effects.pressure_bath) {
+    const double volume = base.scene.cell.size.x() * base.scene.cell.size.y();
+    work += bath->cell_mass * kDimension * volume * r.cell_strain * r.cell_strain;
+  }
+  return work / (gap * dt * dt);
+}
+
 // The largest displacement in units of ξ, at least 1: the solver tolerance is set for a
 // response of size ξ, and a response n times larger is resolved by an n times larger one.
 double ResponseSize(const std::vector<Vec2>& d, double gap) {
@@ -308,6 +323,7 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   r.penetration_depth = PenetrationDepth(base.scene, r.displacement, r.origin, r.axis);
   if (PeriodicY(base.scene.cell.periodicity)) r.pressure_change = s.equilibrium.pressure - base.pressure;
   r.inertia_ratio = InertiaRatio(base, r.displacement, options.dt);
+  r.inertial_force = InertialForce(base, r, options.gap, options.dt);
   r.equilibrium_residual = s.equilibrium.residual;
   r.quasi_static = r.inertia_ratio <= options.max_inertia_ratio;
   // The residual is relative to the solution's own force scale; a solution with runaway

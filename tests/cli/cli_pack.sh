@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# `unjam pack --protocol gravity`: a small pile settles, is static, and is reproduced bit
-# for bit from its seed; re-solving the saved pile gives back its forces.
+# `unjam pack`: a small pile settles, is static, and is reproduced bit for bit from its
+# seed; re-solving the saved pile gives back its forces; checkpoints resume; a frictionless
+# cell, given newton steps by default, jams exactly isostatic.
 # Usage: cli_pack.sh UNJAM_BINARY SOURCE_DIR
 source "$(dirname "$0")/harness.bash" "$@"
 
@@ -73,6 +74,21 @@ PY
 [ "$code" -eq 2 ] || fail "--order zigzag: exit $code, expected 2"
 grep -q -- "--order" "$work/err" || fail "the error does not name --order: $(cat "$work/err")"
 [ ! -e "$work/z.unjam" ] || fail "--order zigzag left a file"
+
+# --backend auto: frictionless cells get newton steps at 1e-8 and jam exactly isostatic
+# (N_c = 2(N' - 1) + 1 under a pressure bath); with friction the steps stay NSGS at 1e-4.
+"$unjam" pack --protocol pressure --n 30 --mu 0 --seed 1 -o "$work/f.unjam" --json --quiet >"$work/f.json" || fail "pack --mu 0: exit $?"
+/usr/bin/python3 - "$work/f.json" "$work/a.json" <<'PY' || fail "pack --backend auto"
+import json, sys
+d = json.load(open(sys.argv[1]))
+p = d["parameters"]
+assert p["backend"] == "newton" and p["step_tol"] == 1e-8, p
+assert d["jammed"] and d["equilibrium_residual"] < 1e-8, d
+assert d["contacts"] == 2 * (d["particles"] - d["rattlers"] - 1) + 1, d
+p = json.load(open(sys.argv[2]))["parameters"]
+assert "backend" not in p and p["step_tol"] == 1e-4, p
+PY
+grep -q '^provenance.*--backend newton.*--step-tol 1e-08' "$work/f.unjam" || fail "resolved backend not in the provenance: $(grep provenance "$work/f.unjam")"
 
 "$unjam" pack --protocol gravity --n 0 -o "$work/c.unjam" 2>"$work/err"; code=$?
 [ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"

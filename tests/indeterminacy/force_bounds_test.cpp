@@ -141,9 +141,9 @@ TEST(ForceBounds, FrictionlessPackingIsIsostaticWithZeroWidths) {
   for (const ContactBounds& b : r.bounds) {
     ASSERT_TRUE(b.min.ok() && b.max.ok());
     EXPECT_LT(b.max.value - b.min.value, 1e-8 * s.force_scale);
-    // The stored forces balance to about 1e-7 (this file predates the certificate
-    // protocol, docs/packings.md); the unique network is theirs to that accuracy.
-    EXPECT_NEAR(b.max.value, b.reference, 1e-6 * s.force_scale);
+    // The stored forces balance to round-off (a certified packing): the unique network is
+    // theirs, to the LP's accuracy.
+    EXPECT_NEAR(b.max.value, b.reference, 1e-9 * s.force_scale);
   }
   EXPECT_EQ(ForceIndeterminacy(s).dimension, 0);
 }

@@ -208,7 +208,12 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
   for (const PerturbationTarget& t : targets) {
     const PerturbationResult r = Perturb(base, t, o);
     ASSERT_EQ(r.status, "ok") << r.solve.residual;
-    EXPECT_NEAR(r.f_crit / r.f_reference, 1.0, 1e-6);
+    EXPECT_NEAR(r.f_crit / r.f_reference, 1.0, 1e-5);
+    // Virtual work over the step: the excess over F_cont is the inertia of the mechanism
+    // (grains and cell), linear in ξ. Here a tenth of a percent of it is the cell's, and
+    // the two sides agree to 1.4e-5 of it or better.
+    EXPECT_GT(r.inertial_force, 0.0);
+    EXPECT_NEAR(r.f_crit - r.f_reference, r.inertial_force, 1e-4 * r.inertial_force);
     EXPECT_GT(r.penetration_depth, 0.0);
     records.push_back(Reduce(base, r, layout, EnsembleOptions{}));
   }

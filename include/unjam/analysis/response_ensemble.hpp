@@ -53,7 +53,7 @@ struct ReducedResponse {
   Vec2 origin = Vec2::Zero(), axis = Vec2(1.0, 0.0);
   double f_crit = 0.0, f_reference = 0.0, penetration_depth = 0.0;
   double cell_strain = 0.0, pressure_change = 0.0;
-  double inertia_ratio = 0.0, equilibrium_residual = 0.0, residual = 0.0, seconds = 0.0;
+  double inertia_ratio = 0.0, inertial_force = 0.0, equilibrium_residual = 0.0, residual = 0.0, seconds = 0.0;
   int iterations = 0;
   std::string status;                   // "ok", "not-converged", "dynamic", "blocked"
   std::string message;                  // the solver's account of its run (why it stopped)

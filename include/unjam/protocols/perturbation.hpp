@@ -92,6 +92,11 @@ struct PerturbationResult {
   double cell_strain = 0.0;             // λ = ΔL/L (fixed pressure)
   double pressure_change = 0.0;         // P_after − P_before from the virial (periodic cells)
   double inertia_ratio = 0.0;           // max_i m_i |d_i| / Δt² over the mean contact force
+  // The part of F_crit that accelerates the grains and the cell: [Σ (m_i |d_i|² + I_i θ_i²)
+  // + M_λ D V λ²] / (ξ Δt²). By virtual work over the step, a frictionless quasi-static
+  // opening has F_crit = F_cont + inertial_force: O(ξ), however small each grain's inertial
+  // force, because the opened mechanism moves every grain.
+  double inertial_force = 0.0;
   double equilibrium_residual = 0.0;    // of the perturbed forces, free particles
   SolveReport solve;
   bool quasi_static = false;            // inertia_ratio ≤ max_inertia_ratio

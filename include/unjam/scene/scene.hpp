@@ -58,6 +58,9 @@ struct Cell {
   std::vector<Wall> walls;
 };
 
+// Disks in the plane: the D of the virial pressure and of the barostat's cell mass M_λ D V.
+inline constexpr double kDimension = 2.0;
+
 // Constant external pressure on a fully periodic cell whose size is a degree of freedom
 // (Andersen-type barostat): M_λ dλ/dt = P_in − P_ext with λ = L̇/L. See docs/method.md.
 struct PressureBath {
