@@ -30,5 +30,20 @@ TEST(Scene, WrapKeepsPositionsInsideThePeriodicCell) {
   EXPECT_LT(scene.particles[1].position.x(), 10.0);
 }
 
+// Static solves leave round-off forces (1e-18 of the mean) on contacts that carry nothing;
+// they must not count, or a rattler caged by such contacts counts as part of the backbone.
+TEST(Scene, RoundOffForcesDoNotCarry) {
+  Scene scene;
+  scene.particles.resize(3);
+  scene.forces.push_back({0, 1, {0, 0}, 1.0, 0.0});
+  scene.forces.push_back({1, 2, {0, 0}, 1e-18, 0.0});
+  scene.forces.push_back({0, 2, {0, 0}, 0.0, 0.0});
+  const std::vector<ContactForce> carrying = ForceCarryingPairs(scene);
+  ASSERT_EQ(carrying.size(), 1u);
+  EXPECT_EQ(carrying[0].j, 1);
+  EXPECT_DOUBLE_EQ(CarryingThreshold({1.0, 1e-18, 0.0}), 1e-10 * (1.0 + 1e-18) / 2.0);
+  EXPECT_EQ(CarryingThreshold({0.0, -1.0}), 0.0);
+}
+
 }  // namespace
 }  // namespace unjam

@@ -76,10 +76,13 @@ Coordination FromCounts(const Scene& scene, const std::vector<int>& count, int c
 
 Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,
                                  const std::vector<Eigen::Vector2d>& forces) {
+  std::vector<double> normals;
+  for (const Eigen::Vector2d& f : forces) normals.push_back(f[0]);
+  const double threshold = CarryingThreshold(normals);
   std::vector<int> count(scene.particles.size(), 0);
   int carrying = 0;
   for (std::size_t k = 0; k < contacts.size(); ++k) {
-    if (!(forces[k][0] > 0.0)) continue;
+    if (!(forces[k][0] > threshold)) continue;
     ++carrying;
     ++count[contacts[k].i];
     if (!contacts[k].WithWall()) ++count[contacts[k].j];
@@ -88,10 +91,13 @@ Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>&
 }
 
 Coordination ComputeCoordination(const Scene& scene, const std::vector<ContactForce>& forces) {
+  std::vector<double> normals;
+  for (const ContactForce& f : forces) normals.push_back(f.normal);
+  const double threshold = CarryingThreshold(normals);
   std::vector<int> count(scene.particles.size(), 0);
   int carrying = 0;
   for (const ContactForce& f : forces) {
-    if (!(f.normal > 0.0)) continue;
+    if (!(f.normal > threshold)) continue;
     ++carrying;
     ++count[f.i];
     if (!IsWallIndex(f.j)) ++count[f.j];

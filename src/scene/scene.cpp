@@ -48,10 +48,24 @@ void WrapPositions(Scene& scene) {
   }
 }
 
+double CarryingThreshold(const std::vector<double>& normal_forces) {
+  double sum = 0.0;
+  int count = 0;
+  for (double f : normal_forces) {
+    if (!(f > 0.0)) continue;
+    sum += f;
+    ++count;
+  }
+  return count > 0 ? 1e-10 * sum / count : 0.0;
+}
+
 std::vector<ContactForce> ForceCarryingPairs(const Scene& scene) {
+  std::vector<double> normals;
+  for (const ContactForce& f : scene.forces) normals.push_back(f.normal);
+  const double threshold = CarryingThreshold(normals);
   std::vector<ContactForce> out;
   for (const ContactForce& f : scene.forces) {
-    if (f.normal <= 0.0 || IsWallIndex(f.j)) continue;
+    if (!(f.normal > threshold) || IsWallIndex(f.j)) continue;
     if (scene.particles[f.i].fixed && scene.particles[f.j].fixed) continue;
     out.push_back(f);
   }

@@ -36,7 +36,8 @@ struct Coordination {
 };
 Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,
                                  const std::vector<Eigen::Vector2d>& forces);
-// The same from forces stored with a scene (ContactForce entries with f_n > 0 count).
+// The same from forces stored with a scene. In both, a contact carries force when f_n is
+// above CarryingThreshold (scene.hpp).
 Coordination ComputeCoordination(const Scene& scene, const std::vector<ContactForce>& forces);
 
 }  // namespace unjam

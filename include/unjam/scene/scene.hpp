@@ -129,8 +129,13 @@ std::vector<char> MovableParticles(const Scene& scene);
 double PackingFraction(const Scene& scene);
 // Wraps positions into the cell along periodic axes.
 void WrapPositions(Scene& scene);
-// The stored forces that carry load between two particles (not walls, not two fixed disks),
-// in the order the scene stores them: the numbering of `--contact K` and `--contacts K`.
+// The smallest normal force that counts as carried: 1e-10 of the mean positive normal force
+// (the static solves' relative tolerance). Static solves leave round-off forces, 1e-18 of
+// the mean and below, on contacts that carry nothing; counting them would hide rattlers.
+double CarryingThreshold(const std::vector<double>& normal_forces);
+// The stored forces that carry load (above CarryingThreshold) between two particles (not
+// walls, not two fixed disks), in the order the scene stores them: the numbering of
+// `--contact K` and `--contacts K`.
 std::vector<ContactForce> ForceCarryingPairs(const Scene& scene);
 // Zero velocities, spins and the cell strain rate: the state a static solve or a
 // perturbation starts from.
