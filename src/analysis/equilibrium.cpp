@@ -91,9 +91,7 @@ Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>&
 }
 
 Coordination ComputeCoordination(const Scene& scene, const std::vector<ContactForce>& forces) {
-  std::vector<double> normals;
-  for (const ContactForce& f : forces) normals.push_back(f.normal);
-  const double threshold = CarryingThreshold(normals);
+  const double threshold = CarryingThreshold(forces);
   std::vector<int> count(scene.particles.size(), 0);
   int carrying = 0;
   for (const ContactForce& f : forces) {

@@ -59,10 +59,14 @@ double CarryingThreshold(const std::vector<double>& normal_forces) {
   return count > 0 ? 1e-10 * sum / count : 0.0;
 }
 
-std::vector<ContactForce> ForceCarryingPairs(const Scene& scene) {
+double CarryingThreshold(const std::vector<ContactForce>& forces) {
   std::vector<double> normals;
-  for (const ContactForce& f : scene.forces) normals.push_back(f.normal);
-  const double threshold = CarryingThreshold(normals);
+  for (const ContactForce& f : forces) normals.push_back(f.normal);
+  return CarryingThreshold(normals);
+}
+
+std::vector<ContactForce> ForceCarryingPairs(const Scene& scene) {
+  const double threshold = CarryingThreshold(scene.forces);
   std::vector<ContactForce> out;
   for (const ContactForce& f : scene.forces) {
     if (!(f.normal > threshold) || IsWallIndex(f.j)) continue;

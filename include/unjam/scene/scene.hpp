@@ -133,6 +133,8 @@ void WrapPositions(Scene& scene);
 // (the static solves' relative tolerance). Static solves leave round-off forces, 1e-18 of
 // the mean and below, on contacts that carry nothing; counting them would hide rattlers.
 double CarryingThreshold(const std::vector<double>& normal_forces);
+// The same over stored forces.
+double CarryingThreshold(const std::vector<ContactForce>& forces);
 // The stored forces that carry load (above CarryingThreshold) between two particles (not
 // walls, not two fixed disks), in the order the scene stores them: the numbering of
 // `--contact K` and `--contacts K`.
