@@ -124,6 +124,14 @@ nlohmann::json Summary(const PackFlags& f, const Scene& result, const RelaxRepor
                         {"static_solve", ToJson(s.report)}, {"equilibrium_residual", s.equilibrium.residual},
                         {"seconds", seconds}, {"output", f.output}, {"parameters", f.Parameters()}};
   out["pressure"] = result.effects.pressure_bath ? nlohmann::json(s.equilibrium.pressure) : nlohmann::json(nullptr);
+  // Without a proven static state there are no static forces: zeros here would read as a
+  // packing with no contacts and every particle a rattler.
+  if (!r.jammed) {
+    for (const char* key : {"contacts", "coordination", "rattlers", "pressure", "closure_displacement",
+                            "static_solve", "equilibrium_residual"}) {
+      out[key] = nullptr;
+    }
+  }
   return out;
 }
 

@@ -44,8 +44,17 @@ PY
 # Checkpoints: a run stopped at --max-steps resumes from its checkpoint and ends bit for bit
 # as an uninterrupted run; a checkpoint of other parameters is refused.
 args=(pack --protocol gravity --n 12 --width 8 --seed 3 --quiet --checkpoint-every 10)
-"$unjam" "${args[@]}" --mu 0.5 -o "$work/r.unjam" --max-steps 35 >/dev/null 2>&1; code=$?
+"$unjam" "${args[@]}" --mu 0.5 -o "$work/r.unjam" --max-steps 35 --json >"$work/r.json" 2>/dev/null; code=$?
 [ "$code" -eq 3 ] || fail "--max-steps 35: exit $code, expected 3 (not static yet)"
+# No static state, so no static forces: null, not zero contacts and every particle a rattler.
+python3 - "$work/r.json" <<'PY' || fail "the JSON of a run not proven static"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert not d["jammed"] and d["output"] is None and d["steps"] == 35, d
+for key in ("contacts", "coordination", "rattlers", "pressure", "static_solve", "equilibrium_residual"):
+    assert d[key] is None, (key, d[key])
+assert d["packing_fraction"] > 0, d
+PY
 [ -e "$work/r.unjam.checkpoint" ] || fail "no checkpoint left by the interrupted run"
 [ ! -e "$work/r.unjam" ] || fail "a packing not proven static was written"
 "$unjam" "${args[@]}" --mu 0.5 -o "$work/r.unjam" >/dev/null 2>"$work/resume.err" || fail "resume: exit $?"
