@@ -56,7 +56,7 @@ void FillCell(const Scene& scene, double dt, AssembledProblem& out) {
   }
   const double kinetic_pressure = kinetic / (kDimension * volume);
   CellDof cell;
-  cell.inv_mass = 1.0 / (bath.cell_mass * kDimension * volume);
+  cell.inv_mass = 1.0 / CellInertia(scene);
   cell.free_rate = bath.strain_rate + dt * (kinetic_pressure - bath.pressure) / bath.cell_mass;
   out.problem.cell = cell;
 }

@@ -174,10 +174,7 @@ double InertialForce(const PerturbationBase& base, const PerturbationResult& r, 
     const Particle& p = base.scene.particles[i];
     work += p.Mass() * r.displacement[i].squaredNorm() + p.Inertia() * r.rotation[i] * r.rotation[i];
   }
-  if (const auto& bath = base.scene.effects.pressure_bath) {
-    const double volume = base.scene.cell.size.x() * base.scene.cell.size.y();
-    work += bath->cell_mass * kDimension * volume * r.cell_strain * r.cell_strain;
-  }
+  if (base.scene.effects.pressure_bath) work += CellInertia(base.scene) * r.cell_strain * r.cell_strain;
   return work / (gap * dt * dt);
 }
 

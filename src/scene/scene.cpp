@@ -48,6 +48,11 @@ void WrapPositions(Scene& scene) {
   }
 }
 
+double CellInertia(const Scene& scene) {
+  const double volume = scene.cell.size.x() * scene.cell.size.y();
+  return scene.effects.pressure_bath->cell_mass * kDimension * volume;
+}
+
 double CarryingThreshold(const std::vector<double>& normal_forces) {
   double sum = 0.0;
   int count = 0;

@@ -129,6 +129,9 @@ std::vector<char> MovableParticles(const Scene& scene);
 double PackingFraction(const Scene& scene);
 // Wraps positions into the cell along periodic axes.
 void WrapPositions(Scene& scene);
+// The barostat's inertia for the strain rate λ, M_λ D V (docs/method.md); the scene must
+// have a pressure bath.
+double CellInertia(const Scene& scene);
 // The smallest normal force that counts as carried: 1e-10 of the mean positive normal force
 // (the static solves' relative tolerance). Static solves leave round-off forces, 1e-18 of
 // the mean and below, on contacts that carry nothing; counting them would hide rattlers.
