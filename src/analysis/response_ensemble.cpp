@@ -191,6 +191,8 @@ ReducedResponse Reduce(const PerturbationBase& base, const PerturbationResult& r
   out.pressure_change = result.pressure_change;
   out.inertia_ratio = result.inertia_ratio;
   out.inertial_force = result.inertial_force;
+  out.fcrit_10xi = result.fcrit_10xi;
+  out.linearity_misfit = result.linearity_misfit;
   out.equilibrium_residual = result.equilibrium_residual;
   out.residual = result.solve.residual;
   out.iterations = result.solve.iterations;
@@ -215,6 +217,7 @@ EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const Res
   for (const ReducedResponse& r : records) {
     if (r.status == "not-converged") ++out.not_converged;
     if (r.status == "dynamic") ++out.dynamic;
+    if (r.status == "nonlinear") ++out.nonlinear;
     if (r.status == "blocked") ++out.blocked;
     if (r.status == "ok" && r.rattler) ++out.rattlers;
     if (!r.Used()) continue;

@@ -30,6 +30,7 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_option("--gap", gap, "perturbation size xi (gap opened, or shift), length units")->capture_default_str();
   a.add_option("--dt", dt, "time step of the quasi-static perturbation step")->capture_default_str();
   a.add_option("--response-tol", response_tol, "solver tolerance as a fraction of xi (unless --tol)")->capture_default_str();
+  a.add_flag("--check-linearity", check_linearity, "solve each quasi-static response again at 10 xi; keep it only if linear in xi (else status nonlinear)");
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.backend = "auto";  // newton without friction, lemke with it (PerturbationOptions)
   solver.backend_may_be_auto = true;
@@ -79,6 +80,7 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.backend = f.solver.backend;
   o.solver = f.solver.Resolve();
   o.response_tolerance = f.response_tol;
+  o.check_linearity = f.check_linearity;
   if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
   return o;
@@ -97,12 +99,15 @@ std::string FileFingerprint(const std::string& path) {
 
 nlohmann::json Header(const PerturbFlags& f, const Selection& s, const PerturbationOptions& o,
                       const PerturbationBase& base) {
-  return {{"unjam_perturb_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
+  nlohmann::json header = {{"unjam_perturb_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
           {"packing_fnv1a", FileFingerprint(f.file)}, {"selection", s.description},
           {"targets", s.targets.size()}, {"mode", ToString(o.cell)}, {"gap", o.gap}, {"dt", o.dt},
           {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
           {"max_iterations", o.solver.max_iterations}, {"relaxation", o.solver.relaxation},
           {"order", ToString(o.solver.sweep_order)}, {"sweep_seed", o.solver.seed}};
+  // Only when on, so that records written before the option existed still resume.
+  if (o.check_linearity) header["check_linearity"] = true;
+  return header;
 }
 
 // Records already on disk from an interrupted run with the same header, by target index.
@@ -114,6 +119,9 @@ std::map<int, ReducedResponse> Resume(const std::filesystem::path& records, cons
     std::string keys;
     for (const auto& [key, value] : header.items()) {
       if (!file.header.contains(key) || file.header[key] != value) keys += (keys.empty() ? "" : ", ") + key;
+    }
+    for (const auto& [key, value] : file.header.items()) {
+      if (!header.contains(key)) keys += (keys.empty() ? "" : ", ") + key;
     }
     throw std::invalid_argument(records.string() + " holds a run with other parameters (" + keys +
                                 "): remove it or choose another --output directory");
@@ -131,13 +139,13 @@ std::string TargetName(const PerturbationTarget& t) {
 std::string PerturbationsCsv(const std::map<int, ReducedResponse>& records) {
   std::ostringstream os;
   os << "index,kind,i,j,image_x,image_y,x,y,axis_x,axis_y,f_reference,f_crit,penetration_depth,"
-        "cell_strain,pressure_change,inertia_ratio,inertial_force,equilibrium_residual,iterations,residual,status,rattler,seconds\n";
+        "cell_strain,pressure_change,inertia_ratio,inertial_force,fcrit_10xi,linearity_misfit,equilibrium_residual,iterations,residual,status,rattler,seconds\n";
   for (const auto& [k, r] : records) {
     const bool shift = r.target.kind == PerturbationTarget::Kind::kParticleShift;
-    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%.6e,%d,%.6e,%s,%d,%.4f\n",
+    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%.17g,%.6e,%.6e,%d,%.6e,%s,%d,%.4f\n",
                  k, shift ? "shift" : "opening", r.target.i, r.target.j, r.target.image[0], r.target.image[1],
                  r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y(), r.f_reference, r.f_crit, r.penetration_depth,
-                 r.cell_strain, r.pressure_change, r.inertia_ratio, r.inertial_force, r.equilibrium_residual, r.iterations,
+                 r.cell_strain, r.pressure_change, r.inertia_ratio, r.inertial_force, r.fcrit_10xi, r.linearity_misfit, r.equilibrium_residual, r.iterations,
                  r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds);
   }
   return os.str();
@@ -227,8 +235,8 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
   nlohmann::json j = {
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
       {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
-      {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
-      {"dynamic", s.dynamic}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
+      {"check_linearity", o.check_linearity}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
+      {"dynamic", s.dynamic}, {"nonlinear", s.nonlinear}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
       {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
       {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},
       {"reference", shift ? "F_y (effective weight)" : "F_cont"},
@@ -249,8 +257,9 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
 
 void PrintSummary(const nlohmann::json& j) {
   auto num = [&](const char* key) { return j[key].is_null() ? std::string("n/a") : Format("%.6g", j[key].get<double>()); };
-  std::printf("perturbations      %d (used %d, not converged %d, dynamic %d, blocked %d, rattlers %d)\n", j["perturbations"].get<int>(),
-              j["used"].get<int>(), j["not_converged"].get<int>(), j["dynamic"].get<int>(), j["blocked"].get<int>(), j["rattlers"].get<int>());
+  std::printf("perturbations      %d (used %d, not converged %d, dynamic %d, nonlinear %d, blocked %d, rattlers %d)\n", j["perturbations"].get<int>(),
+              j["used"].get<int>(), j["not_converged"].get<int>(), j["dynamic"].get<int>(), j["nonlinear"].get<int>(), j["blocked"].get<int>(),
+              j["rattlers"].get<int>());
   std::printf("mode               %s, gap %.3g, dt %.3g, tolerance %.3g (%s)\n", j["mode"].get<std::string>().c_str(),
               j["gap"].get<double>(), j["dt"].get<double>(), j["tolerance"].get<double>(), j["backend"].get<std::string>().c_str());
   std::printf("<F_crit>           %s +- %s\n", num("mean_fcrit").c_str(), num("mean_fcrit_error").c_str());
@@ -331,10 +340,10 @@ int RunPerturb(const PerturbFlags& f) {
   }
   if (f.json) std::printf("%s\n", out.dump().c_str());
   else PrintSummary(out);
-  const int failed = summary.not_converged + summary.dynamic + summary.blocked;
+  const int failed = summary.not_converged + summary.dynamic + summary.nonlinear + summary.blocked;
   if (failed > 0) {
-    std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, blocked: %d)\n",
-                 failed, summary.perturbations, summary.not_converged, summary.dynamic, summary.blocked);
+    std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, nonlinear: %d, blocked: %d)\n",
+                 failed, summary.perturbations, summary.not_converged, summary.dynamic, summary.nonlinear, summary.blocked);
     if (f.solver.require_converged) return kNotConverged;
   }
   return kOk;

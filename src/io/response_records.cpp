@@ -10,10 +10,14 @@
 namespace unjam {
 
 namespace {
-// JSON has no NaN: empty profile bins are written as null.
+// JSON has no NaN: empty profile bins, and the linearity check's fields when not checked,
+// are written as null.
+nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+double NumberOrNaN(const nlohmann::json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
+
 nlohmann::json WithNulls(const std::vector<double>& v) {
   nlohmann::json out = nlohmann::json::array();
-  for (double x : v) out.push_back(std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr));
+  for (double x : v) out.push_back(NumberOrNull(x));
   return out;
 }
 
@@ -49,6 +53,7 @@ nlohmann::json ToJson(const ReducedResponse& r) {
           {"penetration_depth", r.penetration_depth}, {"cell_strain", r.cell_strain},
           {"pressure_change", r.pressure_change}, {"inertia_ratio", r.inertia_ratio},
           {"inertial_force", r.inertial_force},
+          {"fcrit_10xi", NumberOrNull(r.fcrit_10xi)}, {"linearity_misfit", NumberOrNull(r.linearity_misfit)},
           {"equilibrium_residual", r.equilibrium_residual}, {"residual", r.residual},
           {"seconds", r.seconds}, {"iterations", r.iterations}, {"status", r.status},
           {"message", r.message},
@@ -72,6 +77,8 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.inertia_ratio = j.at("inertia_ratio").get<double>();
     const nlohmann::json inertial = j.value("inertial_force", nlohmann::json());  // absent in earlier records
     r.inertial_force = inertial.is_number() ? inertial.get<double>() : std::nan("");
+    r.fcrit_10xi = NumberOrNaN(j.value("fcrit_10xi", nlohmann::json()));  // null or absent: not checked
+    r.linearity_misfit = NumberOrNaN(j.value("linearity_misfit", nlohmann::json()));
     r.equilibrium_residual = j.at("equilibrium_residual").get<double>();
     r.residual = j.at("residual").get<double>();
     r.seconds = j.at("seconds").get<double>();

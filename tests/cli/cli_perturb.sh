@@ -29,10 +29,29 @@ head -n 2 "$work/out/records.jsonl" >"$work/cut" && mv "$work/cut" "$work/out/re
 printf '{"index": 1, "torn' >>"$work/out/records.jsonl"
 "$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/out" >/dev/null 2>"$work/resume.err" || fail "resume: exit $?"
 grep -q "resuming, 1 of 2 done" "$work/resume.err" || fail "the rerun did not resume: $(cat "$work/resume.err")"
-cmp -s <(cut -d, -f1-21 "$work/before.csv") <(cut -d, -f1-21 "$work/out/perturbations.csv") || fail "resumed results differ"
+cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturbations.csv") || fail "resumed results differ"
 "$unjam" perturb "$work/vg.unjam" --all --gap 1e-8 -o "$work/out" >/dev/null 2>"$work/other.err"; code=$?
 [ "$code" -eq 2 ] || fail "records of other parameters: exit $code, expected 2"
 grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"
+
+# The small-gap check: the V-groove's response is linear in xi, so each opening is solved
+# again at 10 xi, kept (status ok) and reported with its F_crit there; not checked, the
+# two columns are empty (nan). Records of a checked run do not resume an unchecked one.
+"$unjam" perturb "$work/vg.unjam" --all --check-linearity --json --threads 1 -o "$work/lin" >"$work/lin.json" 2>/dev/null \
+  || fail "perturb --check-linearity: exit $?"
+/usr/bin/python3 - "$work/lin.json" "$work/lin/perturbations.csv" "$work/out/perturbations.csv" <<'PY' || fail "perturb --check-linearity report"
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["check_linearity"] is True and d["used"] == 2 and d["nonlinear"] == 0, d
+for r in csv.DictReader(open(sys.argv[2])):
+    assert r["status"] == "ok", r
+    assert abs(float(r["fcrit_10xi"]) - float(r["f_crit"])) < 1e-6 * float(r["f_crit"]), r
+    assert float(r["linearity_misfit"]) < 1e-6, r
+for r in csv.DictReader(open(sys.argv[3])):
+    assert math.isnan(float(r["fcrit_10xi"])) and math.isnan(float(r["linearity_misfit"])), r
+PY
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/lin" >/dev/null 2>"$work/lin.err"; code=$?
+[ "$code" -eq 2 ] && grep -q "check_linearity" "$work/lin.err" || fail "records of a checked run resumed an unchecked one: exit $code"
 
 # A blocked perturbation: at fixed volume a frictionless packing cannot open a contact
 # (docs/perturbations.md). Reported as blocked with no F_crit; exit 3 only if asked.

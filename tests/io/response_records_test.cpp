@@ -24,6 +24,7 @@ ReducedResponse SomeRecord() {
   r.penetration_depth = 1e-300;
   r.status = "ok";
   r.rattler = true;
+  r.fcrit_10xi = 2.0 / 3.0 + 1e-9;
   r.displacement_profile = {1.5, std::numeric_limits<double>::quiet_NaN(), 0.1};
   r.force_profile = {0.25};
   r.field = {1.0 / 7.0, -2.0};
@@ -42,6 +43,8 @@ TEST(ResponseRecords, RoundTripIsExact) {
   EXPECT_EQ(b.f_reference, a.f_reference);
   EXPECT_EQ(b.penetration_depth, a.penetration_depth);
   EXPECT_TRUE(b.rattler);
+  EXPECT_EQ(b.fcrit_10xi, a.fcrit_10xi);
+  EXPECT_TRUE(std::isnan(b.linearity_misfit));  // not a number: null in JSON, NaN again
   ASSERT_EQ(b.displacement_profile.size(), 3u);
   EXPECT_TRUE(std::isnan(b.displacement_profile[1]));
   EXPECT_EQ(b.field, a.field);

@@ -234,6 +234,62 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
   }
 }
 
+// The small-gap check on a frictional packing. The quasi-static response of a rigid
+// step is linear in ξ: ten times the gap moves every grain ten times as far (measured: to
+// 2.4e-6 of the largest displacement), and F_crit does not change (measured: by 6e-9 of
+// itself). Contact 17–53 of the default packing (μ = 0.5) opens quasi-statically (lemke,
+// the default there). Unlike a frictionless opening, F_crit does not grow by the
+// mechanism's inertial part here (5e-8 at ξ = 1e-9): friction, not the held contact,
+// takes it up.
+TEST(Perturbation, FrictionalQuasiStaticOpeningIsLinearInTheGap) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  PerturbationTarget target;
+  for (const PerturbationTarget& t : ContactTargets(base)) {
+    if (t.i == 17 && t.j == 53) target = t;
+  }
+  ASSERT_EQ(target.i, 17);
+  PerturbationOptions ten = o;
+  ten.gap = 10.0 * o.gap;
+  const PerturbationResult r = Perturb(base, target, o);
+  const PerturbationResult r10 = Perturb(base, target, ten);
+  ASSERT_EQ(r.status, "ok") << r.solve.message;
+  ASSERT_EQ(r10.status, "ok") << r10.solve.message;
+  EXPECT_NEAR(r10.f_crit, r.f_crit, 1e-6 * r.f_crit);
+  double largest = 0.0, misfit = 0.0;
+  for (std::size_t i = 0; i < r.displacement.size(); ++i) {
+    largest = std::max(largest, r10.displacement[i].norm());
+    misfit = std::max(misfit, (r10.displacement[i] - 10.0 * r.displacement[i]).norm());
+  }
+  EXPECT_GT(largest, 0.5 * ten.gap);
+  EXPECT_LT(misfit, 1e-4 * largest);
+  EXPECT_NEAR(r10.penetration_depth, r.penetration_depth, 1e-6 * r.penetration_depth);
+}
+
+// --check-linearity applies that test to each quasi-static response. Contact 139–286 of
+// the same packing opens with an inertia ratio of 6e-7, below the 1e-6 of a quasi-static
+// step, but its motion is 600 ξ and does not scale with ξ: at 10ξ the grains move to 14
+// times the misfit allowed, and F_crit changes by 0.024. It is reported as "nonlinear".
+TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  PerturbationTarget target;
+  for (const PerturbationTarget& t : ContactTargets(base)) {
+    if (t.i == 139 && t.j == 286) target = t;
+  }
+  ASSERT_EQ(target.i, 139);
+  o.check_linearity = true;
+  const PerturbationResult r = Perturb(base, target, o);
+  EXPECT_TRUE(r.resolved && r.quasi_static) << r.status;
+  EXPECT_FALSE(r.linear);
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.status, "nonlinear");
+  EXPECT_GT(r.linearity_misfit, 1.0);
+  EXPECT_GT(std::abs(r.fcrit_10xi - r.f_crit), 1e-3 * base.mean_contact_force);
+}
+
 // Lemke's paths on a pile take up the gravity load of every contact from zero impulses:
 // up to 7.5 pivots per complementarity row on these shifts. A per-run bound of 3 per row
 // left 6 of the 10 top shifts unresolved; every shift must be resolved (quasi-static or

@@ -11,6 +11,7 @@
 // their nearest periodic image. Displacements are in units of ξ.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -54,8 +55,10 @@ struct ReducedResponse {
   double f_crit = 0.0, f_reference = 0.0, penetration_depth = 0.0;
   double cell_strain = 0.0, pressure_change = 0.0;
   double inertia_ratio = 0.0, inertial_force = 0.0, equilibrium_residual = 0.0, residual = 0.0, seconds = 0.0;
+  double fcrit_10xi = std::numeric_limits<double>::quiet_NaN();        // unless checked (check_linearity)
+  double linearity_misfit = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;
-  std::string status;                   // "ok", "not-converged", "dynamic", "blocked"
+  std::string status;                   // "ok", "not-converged", "dynamic", "nonlinear", "blocked"
   std::string message;                  // the solver's account of its run (why it stopped)
   bool rattler = false;                 // upward shift that needed no force
   bool Used() const { return status == "ok" && !rattler; }
@@ -82,7 +85,7 @@ struct StressBox {
 };
 
 struct EnsembleSummary {
-  int perturbations = 0, used = 0, rattlers = 0, not_converged = 0, dynamic = 0, blocked = 0;
+  int perturbations = 0, used = 0, rattlers = 0, not_converged = 0, dynamic = 0, nonlinear = 0, blocked = 0;
   MeanAndError f_crit, f_reference, penetration_depth;
   double ratio = 0.0, ratio_error = 0.0;     // ⟨F_crit⟩ / ⟨F_reference⟩
   double f0 = 0.0;

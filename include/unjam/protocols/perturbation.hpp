@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,10 @@ struct PerturbationOptions {
   // The response counts as quasi-static when the largest inertial force m|d|/Δt² is below
   // this fraction of the mean contact force.
   double max_inertia_ratio = 1e-6;
+  // The small-gap test, per perturbation: solve every quasi-static response again
+  // at 10ξ and keep it only if it is linear in ξ (status "nonlinear" otherwise; see
+  // PerturbationResult::linear). Doubles the cost of the quasi-static ones.
+  bool check_linearity = false;
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
 double DetectionMargin(const PerturbationOptions& options);
@@ -104,9 +109,18 @@ struct PerturbationResult {
   // measured against the static force scale (not the perturbed one, which a runaway
   // solution inflates), is below the tolerance times max(1, largest |d_i| / ξ).
   bool resolved = false;
-  // Resolved, quasi-static: a result to use. Otherwise `status` says why not.
-  bool ok() const { return resolved && quasi_static; }
+  // With check_linearity, on a quasi-static response: F_crit of the same perturbation at
+  // 10ξ, and max_i |d_i(10ξ) − 10 d_i(ξ)| / max_i |d_i(10ξ)|. NaN when not checked.
+  double fcrit_10xi = std::numeric_limits<double>::quiet_NaN();
+  double linearity_misfit = std::numeric_limits<double>::quiet_NaN();
+  // Not checked, or linear in ξ: at 10ξ the response is quasi-static, its displacements
+  // are 10 times these (misfit ≤ 5 %) and F_crit is the same (to 1e-3 ⟨F_cont⟩). A
+  // step whose solutions form a family may end on another member at another ξ.
+  bool linear = true;
+  // Resolved, quasi-static, linear: a result to use. Otherwise `status` says why not.
+  bool ok() const { return resolved && quasi_static && linear; }
   // "ok"; "dynamic" (resolved, not quasi-static); "not-converged" (not resolved);
+  // "nonlinear" (quasi-static, but not the same response at 10ξ: check_linearity);
   // "blocked" (no motion satisfies the step's non-penetration: F_crit is NaN;
   // problem/kinematic_admissibility.hpp)
   std::string status;
