@@ -306,34 +306,7 @@ double LinearityMisfit(const std::vector<Vec2>& d, const std::vector<Vec2>& d_sc
   return largest > 0.0 ? misfit / largest : std::numeric_limits<double>::infinity();
 }
 
-PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationTarget& target,
-                               const PerturbationOptions& options);
-}  // namespace
-
-PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarget& target,
-                           const PerturbationOptions& options) {
-  const auto start = Clock::now();
-  PerturbationResult r = PerturbOnce(base, target, options);
-  if (!options.check_linearity || !r.ok()) return r;
-  PerturbationOptions scaled = options;
-  scaled.gap *= kLinearityGapFactor;
-  const PerturbationResult check = PerturbOnce(base, target, scaled);
-  if (!check.resolved) {  // no verdict: the result cannot be certified
-    r.resolved = false;
-    r.status = "not-converged";
-    r.solve.message += (r.solve.message.empty() ? "" : "; ") + std::string("the 10 xi check did not converge: ") + check.solve.message;
-  } else {
-    r.fcrit_10xi = check.f_crit;
-    r.linearity_misfit = LinearityMisfit(r.displacement, check.displacement, kLinearityGapFactor);
-    r.linear = check.quasi_static && r.linearity_misfit <= kLinearityMisfit &&
-               std::abs(check.f_crit - r.f_crit) <= kLinearityForceChange * base.mean_contact_force;
-    if (!r.linear) r.status = "nonlinear";
-  }
-  r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  return r;
-}
-
-namespace {
+// The whole measurement at one gap.
 PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationTarget& target,
                                const PerturbationOptions& options) {
   const auto start = Clock::now();
@@ -378,7 +351,35 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
 }
+
+// Compares a quasi-static result r with the same perturbation at 10ξ (`scaled`).
+void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled, PerturbationResult& r) {
+  r.fcrit_10xi = scaled.f_crit;
+  r.linearity_misfit = LinearityMisfit(r.displacement, scaled.displacement, kLinearityGapFactor);
+  r.linear = scaled.quasi_static && r.linearity_misfit <= kLinearityMisfit &&
+             std::abs(scaled.f_crit - r.f_crit) <= kLinearityForceChange * base.mean_contact_force;
+  if (!r.linear) r.status = "nonlinear";
+}
 }  // namespace
+
+PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarget& target,
+                           const PerturbationOptions& options) {
+  const auto start = Clock::now();
+  PerturbationResult r = PerturbOnce(base, target, options);
+  if (!options.check_linearity || !r.ok()) return r;
+  PerturbationOptions scaled = options;
+  scaled.gap *= kLinearityGapFactor;
+  const PerturbationResult check = PerturbOnce(base, target, scaled);
+  if (!check.resolved) {  // no verdict: the result cannot be certified
+    r.resolved = false;
+    r.status = "not-converged";
+    r.solve.message += (r.solve.message.empty() ? "" : "; ") + std::string("the 10 xi check did not converge: ") + check.solve.message;
+  } else {
+    JudgeLinearity(base, check, r);
+  }
+  r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return r;
+}
 
 std::vector<PerturbationTarget> ContactTargets(const PerturbationBase& base) {
   std::vector<PerturbationTarget> out;
