@@ -75,8 +75,7 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.cell_strain = j.at("cell_strain").get<double>();
     r.pressure_change = j.at("pressure_change").get<double>();
     r.inertia_ratio = j.at("inertia_ratio").get<double>();
-    const nlohmann::json inertial = j.value("inertial_force", nlohmann::json());  // absent in earlier records
-    r.inertial_force = inertial.is_number() ? inertial.get<double>() : std::nan("");
+    r.inertial_force = NumberOrNaN(j.value("inertial_force", nlohmann::json()));  // absent in earlier records
     r.fcrit_10xi = NumberOrNaN(j.value("fcrit_10xi", nlohmann::json()));  // null or absent: not checked
     r.linearity_misfit = NumberOrNaN(j.value("linearity_misfit", nlohmann::json()));
     r.equilibrium_residual = j.at("equilibrium_residual").get<double>();

@@ -40,6 +40,14 @@ PerturbationTarget Opening(int i, int j) {
   return t;
 }
 
+// The opening of contact i–j among the base's force-carrying contacts (i = −1 if it is not one).
+PerturbationTarget OpeningOf(const PerturbationBase& base, int i, int j) {
+  for (const PerturbationTarget& t : ContactTargets(base)) {
+    if (t.i == i && t.j == j) return t;
+  }
+  return Opening(-1, -1);
+}
+
 PerturbationTarget Shift(int particle, Vec2 direction) {
   PerturbationTarget t;
   t.kind = PerturbationTarget::Kind::kParticleShift;
@@ -245,10 +253,7 @@ TEST(Perturbation, FrictionalQuasiStaticOpeningIsLinearInTheGap) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  PerturbationTarget target;
-  for (const PerturbationTarget& t : ContactTargets(base)) {
-    if (t.i == 17 && t.j == 53) target = t;
-  }
+  const PerturbationTarget target = OpeningOf(base, 17, 53);
   ASSERT_EQ(target.i, 17);
   PerturbationOptions ten = o;
   ten.gap = 10.0 * o.gap;
@@ -275,10 +280,7 @@ TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  PerturbationTarget target;
-  for (const PerturbationTarget& t : ContactTargets(base)) {
-    if (t.i == 139 && t.j == 286) target = t;
-  }
+  const PerturbationTarget target = OpeningOf(base, 139, 286);
   ASSERT_EQ(target.i, 139);
   o.check_linearity = true;
   const PerturbationResult r = Perturb(base, target, o);
