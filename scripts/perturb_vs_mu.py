@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Contact openings against friction: one `unjam perturb -o DIR` run per packing, read
 from each DIR's summary.json and perturbations.csv, written as a Markdown table (stdout)
-and a figure (matplotlib): the fraction of openings that are quasi-static, dynamic or
-blocked, ⟨F_crit⟩/⟨F_cont⟩ over the quasi-static ones, and ⟨δ⟩.
+and a figure (matplotlib): the fraction of openings that are quasi-static (`ok`), not
+linear in ξ (`nonlinear`, runs with the small-gap check), dynamic or blocked,
+⟨F_crit⟩/⟨F_cont⟩ over the `ok` ones, and ⟨δ⟩.
 
 A DIR may be followed by `+RERUN.csv`: rows of `unjam perturb` runs (one per perturbation,
 same packing, e.g. openings rerun one by one with `--contact K`) that replace the DIR's rows
@@ -80,15 +81,17 @@ def main():
         count = lambda status: sum(1 for p in per if p["status"] == status)
         rows.append({"packing": re.sub(r"\.unjam$", "", s["file"].split("/")[-1]), "mu": friction_of(s["file"]),
                      "n": n, "selection": s["selection"], "ok": count("ok"), "dynamic": count("dynamic"),
+                     "nonlinear": count("nonlinear") if s.get("check_linearity") else None,
                      "blocked": count("blocked"), "not_converged": count("not-converged"),
                      "ratio": ratio, "ratio_error": ratio_error,
                      "delta": delta, "delta_error": delta_error, "backend": s["backend"]})
     rows.sort(key=lambda r: r["mu"])
     fmt = lambda x, e: "—" if x is None else f"{x:.3f} ± {e:.3f}"
-    print("| packing | μ | openings | quasi-static | dynamic | blocked | not resolved | ⟨F_crit⟩/⟨F_cont⟩ (quasi-static) | ⟨δ⟩ (quasi-static) | backend |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| packing | μ | openings | quasi-static | nonlinear in ξ | dynamic | blocked | not resolved | ⟨F_crit⟩/⟨F_cont⟩ (quasi-static) | ⟨δ⟩ (quasi-static) | backend |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
-        print(f"| {r['packing']} | {r['mu']:g} | {r['n']} ({r['selection']}) | {r['ok']} | {r['dynamic']} | {r['blocked']} | "
+        nonlinear = "not checked" if r["nonlinear"] is None else r["nonlinear"]
+        print(f"| {r['packing']} | {r['mu']:g} | {r['n']} ({r['selection']}) | {r['ok']} | {nonlinear} | {r['dynamic']} | {r['blocked']} | "
               f"{r['not_converged']} | {fmt(r['ratio'], r['ratio_error'])} | {fmt(r['delta'], r['delta_error'])} | {r['backend']} |")
 
     # μ = 0 on a log axis: drawn at a tenth of the smallest positive μ and labelled.
@@ -96,8 +99,11 @@ def main():
     zero_at = min(positive) / 10 if positive else 1e-3
     x = [r["mu"] if r["mu"] > 0 else zero_at for r in rows]
     fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(12, 3.6))
-    for key, label, marker in (("ok", "quasi-static", "o"), ("dynamic", "dynamic", "x"), ("not_converged", "not resolved", "^"), ("blocked", "blocked", "s")):
-        a1.plot(x, [r[key] / r["n"] for r in rows], marker + "-", label=label)
+    for key, label, marker in (("ok", "quasi-static", "o"), ("nonlinear", "quasi-static, not linear in ξ", "D"),
+                               ("dynamic", "dynamic", "x"), ("not_converged", "not resolved", "^"), ("blocked", "blocked", "s")):
+        pts = [(xi, r[key] / r["n"]) for xi, r in zip(x, rows) if r[key] is not None]
+        if pts:
+            a1.plot([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=label)
     # The LP's side (scripts/bounds_vs_mu.py): contacts that no static network lets open
     # without friction; an opening of such a contact cannot be quasi-static.
     lp_csv = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench", "results", "bounds-vs-mu.csv")

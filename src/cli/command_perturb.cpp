@@ -30,7 +30,10 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_option("--gap", gap, "perturbation size xi (gap opened, or shift), length units")->capture_default_str();
   a.add_option("--dt", dt, "time step of the quasi-static perturbation step")->capture_default_str();
   a.add_option("--response-tol", response_tol, "solver tolerance as a fraction of xi (unless --tol)")->capture_default_str();
-  a.add_flag("--check-linearity", check_linearity, "solve each quasi-static response again at 10 xi; keep it only if linear in xi (else status nonlinear)");
+  a.add_flag("--check-linearity,!--no-check-linearity", check_linearity,
+             "solve each quasi-static response again at 10 xi; keep it only if linear in xi (else status nonlinear); "
+             "on by default, --no-check-linearity saves the second solve")
+      ->capture_default_str();
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.backend = "auto";  // newton without friction, lemke with it (PerturbationOptions)
   solver.backend_may_be_auto = true;
@@ -105,7 +108,8 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
           {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
           {"max_iterations", o.solver.max_iterations}, {"relaxation", o.solver.relaxation},
           {"order", ToString(o.solver.sweep_order)}, {"sweep_seed", o.solver.seed}};
-  // Only when on, so that records written before the option existed still resume.
+  // Only when on, so that records written before the option existed (all unchecked)
+  // still resume with --no-check-linearity.
   if (o.check_linearity) header["check_linearity"] = true;
   return header;
 }

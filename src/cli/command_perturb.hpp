@@ -27,7 +27,7 @@ struct PerturbFlags {
   int threads = 0;                  // 0: all cores
   SolverFlags solver;
   std::string output_dir;
-  bool check_linearity = false;
+  bool check_linearity = true;     // --no-check-linearity turns it off
   bool json = false;
   bool quiet = false;
   CLI::App* app = nullptr;          // to ask whether --tol was given

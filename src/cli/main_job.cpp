@@ -143,9 +143,10 @@ int RunMainJob(const MainJobFlags& flags) {
   std::printf("\nF_crit: force holding the contact open by the gap (docs/perturbations.md); LP min/max: admissible normal\n"
               "force over all static force networks, LP f_t=0: the largest with no tangential force on the contact\n"
               "(infeasible: no static network lets this contact open without friction; docs/indeterminacy.md).\n"
-              "status ok: quasi-static response resolved; dynamic: the packing moves (no static F_crit);\n"
-              "not-converged: the solver missed the tolerance (see residual); blocked: no motion of the rigid grains\n"
-              "satisfies the step (docs/perturbations.md).\n\n");
+              "status ok: quasi-static response resolved, the same at 10 x the gap; dynamic: the packing moves (no\n"
+              "static F_crit); nonlinear: quasi-static, but another response at 10 x the gap (F_crit depends on the\n"
+              "gap); not-converged: the solver missed the tolerance (see residual); blocked: no motion of the rigid\n"
+              "grains satisfies the step (docs/perturbations.md).\n\n");
 
   const std::filesystem::path dir = flags.out;
   std::filesystem::create_directories(dir);

@@ -34,24 +34,32 @@ cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturba
 [ "$code" -eq 2 ] || fail "records of other parameters: exit $code, expected 2"
 grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"
 
-# The small-gap check: the V-groove's response is linear in xi, so each opening is solved
-# again at 10 xi, kept (status ok) and reported with its F_crit there; not checked, the
-# two columns are empty (nan). Records of a checked run do not resume an unchecked one.
-"$unjam" perturb "$work/vg.unjam" --all --check-linearity --json --threads 1 -o "$work/lin" >"$work/lin.json" 2>/dev/null \
-  || fail "perturb --check-linearity: exit $?"
-/usr/bin/python3 - "$work/lin.json" "$work/lin/perturbations.csv" "$work/out/perturbations.csv" <<'PY' || fail "perturb --check-linearity report"
-import csv, json, math, sys
+# The small-gap check, on by default: the V-groove's response is linear in xi, so each
+# opening is solved again at 10 xi, kept (status ok) and reported with its F_crit there.
+# With --no-check-linearity the two columns are empty (nan), and records of either kind of
+# run do not resume the other.
+/usr/bin/python3 - "$work/all.json" "$work/out/perturbations.csv" <<'PY' || fail "perturb: the default small-gap check"
+import csv, json, sys
 d = json.load(open(sys.argv[1]))
 assert d["check_linearity"] is True and d["used"] == 2 and d["nonlinear"] == 0, d
 for r in csv.DictReader(open(sys.argv[2])):
     assert r["status"] == "ok", r
     assert abs(float(r["fcrit_10xi"]) - float(r["f_crit"])) < 1e-6 * float(r["f_crit"]), r
     assert float(r["linearity_misfit"]) < 1e-6, r
-for r in csv.DictReader(open(sys.argv[3])):
+PY
+"$unjam" perturb "$work/vg.unjam" --all --no-check-linearity --json --threads 1 -o "$work/lin" >"$work/lin.json" 2>/dev/null \
+  || fail "perturb --no-check-linearity: exit $?"
+/usr/bin/python3 - "$work/lin.json" "$work/lin/perturbations.csv" "$work/out/perturbations.csv" <<'PY' || fail "perturb --no-check-linearity report"
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["check_linearity"] is False and d["used"] == 2, d
+checked = {r["index"]: r for r in csv.DictReader(open(sys.argv[3]))}
+for r in csv.DictReader(open(sys.argv[2])):
     assert math.isnan(float(r["fcrit_10xi"])) and math.isnan(float(r["linearity_misfit"])), r
+    assert r["f_crit"] == checked[r["index"]]["f_crit"], (r, checked[r["index"]])
 PY
 "$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/lin" >/dev/null 2>"$work/lin.err"; code=$?
-[ "$code" -eq 2 ] && grep -q "check_linearity" "$work/lin.err" || fail "records of a checked run resumed an unchecked one: exit $code"
+[ "$code" -eq 2 ] && grep -q "check_linearity" "$work/lin.err" || fail "records of an unchecked run resumed a checked one: exit $code"
 
 # A blocked perturbation: at fixed volume a frictionless packing cannot open a contact
 # (docs/perturbations.md). Reported as blocked with no F_crit; exit 3 only if asked.
