@@ -54,9 +54,10 @@ def main():
                        "f_cont": r["f_reference"], "f_crit": r["f_crit"], "status": r["status"],
                        "delta": r["penetration_depth"], "lp_min": b["min"], "lp_max": b["max"],
                        "lp_max_without_friction": b["max_without_friction"], "lp_class": lp_class(b, scale),
-                       "inertial_force": r.get("inertial_force", "0")})
+                       "inertial_force": r.get("inertial_force", "0"), "fcrit_10xi": r.get("fcrit_10xi", "nan")})
     classes = ["infeasible", "zero", "positive"]
-    kinds = [("dynamic", "dynamic"), ("quasi-static", "ok"), ("not resolved", "not-converged")]
+    kinds = [("dynamic", "dynamic"), ("quasi-static", "ok"), ("quasi-static, not linear in ξ", "nonlinear"),
+             ("not resolved", "not-converged")]
     print(f"{len(openings)} openings, {len(joined)} matched to an LP row, {missing} without one")
     print()
     print("| LP max without friction | " + " | ".join(k for k, _ in kinds) + " |")
@@ -66,12 +67,20 @@ def main():
         print(f"| {c} | " + " | ".join(str(n) for n in counts) + " |")
     static = [r for r in joined if r["status"] == "ok"]
     tol = 1e-6 * scale
-    slack = lambda r: tol + number(r["inertial_force"] or "0")
-    inside = [r for r in static if r["lp_class"] in ("zero", "positive") and
-              number(r["lp_min"]) - slack(r) <= number(r["f_crit"]) <= number(r["lp_max_without_friction"]) + slack(r)]
+    # The inertial part grows with the gap: gap_scale 10 for F_crit at 10ξ.
+    slack = lambda r, gap_scale=1: tol + gap_scale * number(r["inertial_force"] or "0")
+    within = lambda r, f, gap_scale=1: (r["lp_class"] in ("zero", "positive") and
+                                        number(r["lp_min"]) - slack(r, gap_scale) <= f <=
+                                        number(r["lp_max_without_friction"]) + slack(r, gap_scale))
+    inside = [r for r in static if within(r, number(r["f_crit"]))]
     print()
     print(f"quasi-static F_crit inside [LP min, LP max without friction] (to 1e-6 of <F_cont> plus its inertial part): "
           f"{len(inside)} of {len(static)}")
+    # The small-gap check's rejects: two members of the step's solution family, at ξ and 10ξ.
+    nonlinear = [r for r in joined if r["status"] == "nonlinear"]
+    if nonlinear:
+        both = [r for r in nonlinear if within(r, number(r["f_crit"])) and within(r, number(r["fcrit_10xi"]), 10)]
+        print(f"nonlinear openings with F_crit at ξ and at 10ξ both inside it: {len(both)} of {len(nonlinear)}")
     spans = [(number(r["f_crit"]) - number(r["lp_min"])) /
              (number(r["lp_max_without_friction"]) - number(r["lp_min"]))
              for r in inside if number(r["lp_max_without_friction"]) - number(r["lp_min"]) > tol]
