@@ -353,14 +353,10 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
 }
 
 // Compares a quasi-static result r with the same perturbation at 10ξ (`scaled`).
-void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled, double max_inertia_ratio,
-                    PerturbationResult& r) {
+void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled, PerturbationResult& r) {
   r.fcrit_10xi = scaled.f_crit;
   r.linearity_misfit = LinearityMisfit(r.displacement, scaled.displacement, kLinearityGapFactor);
-  // A linear response's inertia grows with the gap, so at 10ξ it is judged against a
-  // threshold 10 times as high: the same regime, not a stricter one.
-  const bool quasi_static = scaled.inertia_ratio <= kLinearityGapFactor * max_inertia_ratio;
-  r.linear = quasi_static && r.linearity_misfit <= kLinearityMisfit &&
+  r.linear = scaled.quasi_static && r.linearity_misfit <= kLinearityMisfit &&
              std::abs(scaled.f_crit - r.f_crit) <= kLinearityForceChange * base.mean_contact_force;
   if (!r.linear) r.status = "nonlinear";
 }
@@ -373,13 +369,16 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   if (!options.check_linearity || !r.ok()) return r;
   PerturbationOptions scaled = options;
   scaled.gap *= kLinearityGapFactor;
+  // A linear response's inertia grows with the gap, so at 10ξ it is judged against a
+  // threshold 10 times as high: the same regime, not a stricter one.
+  scaled.max_inertia_ratio *= kLinearityGapFactor;
   const PerturbationResult check = PerturbOnce(base, target, scaled);
   if (!check.resolved) {  // no verdict: the result cannot be certified
     r.resolved = false;
     r.status = "not-converged";
     r.solve.message += (r.solve.message.empty() ? "" : "; ") + std::string("the 10 xi check did not converge: ") + check.solve.message;
   } else {
-    JudgeLinearity(base, check, options.max_inertia_ratio, r);
+    JudgeLinearity(base, check, r);
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
