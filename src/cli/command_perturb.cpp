@@ -34,6 +34,9 @@ void PerturbFlags::Register(CLI::App& a) {
              "solve each quasi-static response again at 10 xi; keep it only if linear in xi (else status nonlinear); "
              "on by default, --no-check-linearity saves the second solve")
       ->capture_default_str();
+  a.add_flag("--cold-check", cold_check,
+             "the 10 xi check solves from zero impulses, as at xi, instead of continuing the answer at xi on its "
+             "stick/slide/open pattern: it then also asks that the solver pick the same member of the step's solutions at both gaps");
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.backend = "auto";  // newton without friction, lemke with it (PerturbationOptions)
   solver.backend_may_be_auto = true;
@@ -84,6 +87,7 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.solver = f.solver.Resolve();
   o.response_tolerance = f.response_tol;
   o.check_linearity = f.check_linearity;
+  o.check_by_continuation = !f.cold_check;
   if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
   return o;
@@ -109,8 +113,10 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
           {"max_iterations", o.solver.max_iterations}, {"relaxation", o.solver.relaxation},
           {"order", ToString(o.solver.sweep_order)}, {"sweep_seed", o.solver.seed}};
   // Only when on, so that records written before the option existed (all unchecked)
-  // still resume with --no-check-linearity.
+  // still resume with --no-check-linearity, and checked ones written before the continued
+  // check (all cold) with --cold-check.
   if (o.check_linearity) header["check_linearity"] = true;
+  if (o.check_linearity && o.check_by_continuation) header["check_by_continuation"] = true;
   return header;
 }
 
@@ -239,7 +245,7 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
   nlohmann::json j = {
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
       {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
-      {"check_linearity", o.check_linearity}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
+      {"check_linearity", o.check_linearity}, {"check_by_continuation", o.check_linearity && o.check_by_continuation}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
       {"dynamic", s.dynamic}, {"nonlinear", s.nonlinear}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
       {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
       {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},

@@ -27,7 +27,8 @@ struct PerturbFlags {
   int threads = 0;                  // 0: all cores
   SolverFlags solver;
   std::string output_dir;
-  bool check_linearity = true;     // --no-check-linearity turns it off
+  bool check_linearity = true;      // --no-check-linearity turns it off
+  bool cold_check = false;          // --cold-check: the 10 xi check from zero impulses
   bool json = false;
   bool quiet = false;
   CLI::App* app = nullptr;          // to ask whether --tol was given

@@ -78,6 +78,10 @@ StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const Static
     out.forces[assembled.source_contact[k]] = Eigen::Vector2d(
         result.impulses[k * stride], stride == 2 ? result.impulses[k * stride + 1] : 0.0) / options.dt;
   }
+  if (!result.basis.empty()) {
+    out.basis.assign(out.contacts.size(), 0);
+    for (int k = 0; k < p.NumContacts(); ++k) out.basis[assembled.source_contact[k]] = result.basis[k];
+  }
   RecordMotion(assembled, EndVelocityState(p, result.impulses), options.dt, out);
   out.equilibrium = CheckEquilibrium(rest, out.contacts, out.forces);
   return out;

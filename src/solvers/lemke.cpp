@@ -44,6 +44,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,71 @@ Eigen::VectorXd StartOf(const MatrixForm& k, const Eigen::VectorXd& r, int varia
   }
   return z;
 }
+
+// The complementarity variables of contact c in the slip-speed form (Encode).
+int SlipFormVariables(const MatrixForm& k, int c) {
+  if (k.laws[c].kind == ConstraintKind::kBilateral) return 2;
+  return k.per_contact == 1 || k.laws[c].mu == 0.0 ? 1 : 4;
+}
+
+// A basis per contact (ContactProblem::initial_basis: bit k for the contact's k-th
+// variable) as flags per variable of the slip-speed form, or empty if it does not fit.
+std::vector<char> ExpandBasis(const MatrixForm& k, const std::vector<std::uint8_t>& per_contact, int variables) {
+  if (static_cast<int>(per_contact.size()) != k.NumContacts()) return {};
+  std::vector<char> flags;
+  flags.reserve(variables);
+  for (int c = 0; c < k.NumContacts(); ++c) {
+    for (int v = 0; v < SlipFormVariables(k, c); ++v) flags.push_back((per_contact[c] >> v) & 1);
+  }
+  return flags;
+}
+
+std::vector<std::uint8_t> CompressBasis(const MatrixForm& k, const std::vector<char>& flags) {
+  std::vector<std::uint8_t> per_contact(k.NumContacts(), 0);
+  int variable = 0;
+  for (int c = 0; c < k.NumContacts(); ++c) {
+    for (int v = 0; v < SlipFormVariables(k, c); ++v, ++variable) {
+      if (flags[variable]) per_contact[c] |= static_cast<std::uint8_t>(1u << v);
+    }
+  }
+  return per_contact;
+}
+
+// The slip-speed form's basis that an answer's stick/slide/open pattern implies, for an
+// answer that is not one basis's solution (polished by Newton, or of the box form): per
+// contact r_n basic if it carries force; a sliding contact (|u_t| above 1 % of the
+// velocity scale, the accuracy the solve is asked for) holds s and the multiplier at the
+// cone's edge, a sticking one the multiplier of r_t's sign, and s too if r_t is at the
+// edge. Degenerate choices are guesses; a singular or infeasible basis is rejected where
+// it is used.
+std::vector<std::uint8_t> BasisOfPattern(const MatrixForm& k, const Eigen::VectorXd& r, double velocity_scale) {
+  const Eigen::VectorXd u = k.h * (k.v_free + k.g * r) + k.offset;
+  const double force_floor = 1e-12 * std::max(r.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  std::vector<std::uint8_t> basis(k.NumContacts(), 0);
+  for (int c = 0; c < k.NumContacts(); ++c) {
+    const double rn = r[k.per_contact * c];
+    if (k.laws[c].kind == ConstraintKind::kBilateral) {
+      basis[c] = rn >= 0.0 ? 1 : 2;
+      continue;
+    }
+    if (!(rn > force_floor)) continue;
+    basis[c] = 1;
+    if (SlipFormVariables(k, c) == 1) continue;
+    const double rt = r[k.per_contact * c + 1], ut = u[k.per_contact * c + 1];
+    const bool at_edge = std::abs(rt) >= k.laws[c].mu * rn * (1.0 - 1e-6);
+    if (at_edge && std::abs(ut) > 1e-2 * velocity_scale && ut * rt < 0.0) {
+      basis[c] |= ut > 0.0 ? (4 | 8) : (2 | 8);
+      continue;
+    }
+    if (rt > 0.0) basis[c] |= 2;
+    if (rt < 0.0) basis[c] |= 4;
+    if (at_edge) basis[c] |= 8;
+  }
+  return basis;
+}
+
+std::vector<std::uint8_t> InitialBasisOf(const ContactProblem& p) { return p.initial_basis; }
+std::vector<std::uint8_t> InitialBasisOf(const DelassusProblem&) { return {}; }
 
 // A pseudo-random number in [1, 2) from an index (splitmix64): the same perturbation on
 // every run, thread and machine.
@@ -235,11 +301,15 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     bool warm;
     double perturbation = 0.0;
     ConeForm form = ConeForm::kSlipSpeed;
+    bool basis_only = false;  // the given basis solved as it is, no path
   };
   std::vector<Run> runs;
   const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
                          problem.initial_guess.allFinite() && problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
+  const double velocity_scale = o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale : 1.0;
   const Eigen::VectorXd guess = has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
+  const std::vector<char> given_basis = ExpandBasis(k, InitialBasisOf(problem), slip.enc.variables);
+  if (!given_basis.empty()) runs.push_back({0.0, "none", false, 0.0, ConeForm::kSlipSpeed, true});
   if (has_guess) runs.insert(runs.end(), {{1e-16, "1e-16", true}, {1e-14, "1e-14", true}});
   runs.insert(runs.end(), {{1e-16, "1e-16", false}, {1e-14, "1e-14", false}, {1e-12, "1e-12", false},
                            {1e-16, "1e-16", false, 1e-2}, {1e-16, "1e-16", false, 1e-1}});
@@ -252,6 +322,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     Posed& posed = run.form == ConeForm::kShiftedBox ? box : slip;
     lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's start and perturbation are set in place
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
+    mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
     mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation) : Eigen::VectorXd();
     const int per_run = std::min(o.max_iterations, 20 * posed.enc.variables + 100);
     const lemke_internal::LemkeResult lemke =
@@ -261,9 +332,15 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     double residual = ComputeResidual(problem, impulses).residual;
     const bool solved = lemke.outcome == lemke_internal::LemkeOutcome::kSolved;
     bool exact = solved;
-    history += (history.empty() ? "" : "; ") + std::string(run.form == ConeForm::kShiftedBox ? "box form, " : "") +
-               (run.warm ? std::string("warm") : perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) + ", ties " + run.name + ": " +
-               (solved ? std::string("solved") : std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")") + " after " + std::to_string(lemke.pivots) + " pivots";
+    const std::string failure = std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")";
+    if (!history.empty()) history += "; ";
+    if (run.basis_only) {
+      history += "the given basis: " + (solved ? "residual " + Scientific(residual) : failure);
+    } else {
+      history += std::string(run.form == ConeForm::kShiftedBox ? "box form, " : "") +
+                 (run.warm ? std::string("warm") : perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) +
+                 ", ties " + run.name + ": " + (solved ? std::string("solved") : failure) + " after " + std::to_string(lemke.pivots) + " pivots";
+    }
     if (perturbed && solved) {
       history += " (without the perturbation, basic values down to " + Scientific(-lemke.polish_violation) + ")";
       if (residual > o.tolerance) {
@@ -279,6 +356,9 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     }
     if (report.status != SolveStatus::kConverged && (result.impulses.size() == 0 || residual < report.residual)) {
       result.impulses = impulses;
+      // The basis is the answer's only where the answer is that basis's solution.
+      const bool basis_answer = solved && run.form == ConeForm::kSlipSpeed && lemke.polish_violation == 0.0 && impulses == posed.t * lemke.z;
+      result.basis = basis_answer ? CompressBasis(k, lemke.z_basic) : BasisOfPattern(k, impulses, velocity_scale);
       report.residual = residual;
       report.status = exact && residual <= o.tolerance ? SolveStatus::kConverged : SolveStatus::kNumericalFailure;
     }

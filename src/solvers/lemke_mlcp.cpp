@@ -146,6 +146,7 @@ class Lemke {
     for (int i = 0; i < n_; ++i) basic_[nf_ + i] = tab_.W(i);
     if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the initial basis is singular");
     if (n_ == 0) return Finish();
+    if (!problem_.given_basis.empty()) return SolveGivenBasis();
     if (problem_.start.size() == n_ && problem_.start.maxCoeff() > 0.0 && !WarmStart()) {
       return Fail(LemkeOutcome::kSingularBasis, "the warm start's basis is singular");
     }
@@ -190,6 +191,16 @@ class Lemke {
       if (row < 0 || z0 >= level) row = pos, level = z0;
     }
     return row;
+  }
+
+  // Mlcp::given_basis, solved as it is.
+  LemkeResult SolveGivenBasis() {
+    if (static_cast<int>(problem_.given_basis.size()) != n_) return Fail(LemkeOutcome::kSingularBasis, "the given basis has the wrong size");
+    for (int i = 0; i < n_; ++i) basic_[nf_ + i] = problem_.given_basis[i] ? tab_.Z(i) : tab_.W(i);
+    if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the given basis is singular");
+    if (Finish().outcome != LemkeOutcome::kSolved) return result_;
+    result_.polish_violation = std::max(0.0, -beta_.tail(n_).minCoeff());
+    return result_;
   }
 
   // Reduces the guess to a basic point and sets the covering vector (lemke_mlcp.hpp).
@@ -378,9 +389,13 @@ class Lemke {
     result_.outcome = LemkeOutcome::kSolved;
     result_.x = beta_.head(nf_);
     result_.z = Eigen::VectorXd::Zero(n_);
+    result_.z_basic.assign(n_, 0);
     for (int pos = 0; pos < tab_.Rows(); ++pos) {
       const int var = basic_[pos];
-      if (var >= tab_.Z(0) && var < tab_.Z0()) result_.z[var - tab_.Z(0)] = std::max(0.0, beta_[pos]);
+      if (var >= tab_.Z(0) && var < tab_.Z0()) {
+        result_.z[var - tab_.Z(0)] = std::max(0.0, beta_[pos]);
+        result_.z_basic[var - tab_.Z(0)] = 1;
+      }
     }
     return result_;
   }

@@ -50,6 +50,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -64,6 +65,13 @@ struct Mlcp {
   Eigen::VectorXd e;               // n
   Eigen::VectorXd start;           // n or empty: a warm start z* ≥ 0 (above)
   Eigen::VectorXd perturbation;    // n or empty: the path is followed for e + perturbation (below)
+  // n or empty: a complementary basis (1: z_i basic, 0: w_i basic), e.g. the final basis
+  // of a nearby problem's answer. If given, there is no path: that basis is solved for
+  // this problem and its basic values clamped at zero (LemkeResult::polish_violation says
+  // by how much); the caller judges the answer by its residual. The answer at 10ξ on the
+  // basis of the answer at ξ has the same stick/slide/open pattern, and is linear in ξ
+  // wherever that basis stays feasible.
+  std::vector<char> given_basis;
   int NumFree() const { return static_cast<int>(x0.size()); }
   int NumComplementary() const { return static_cast<int>(e.size()); }
 };
@@ -80,6 +88,8 @@ struct LemkeResult {
   int start_support = 0;           // warm start: complementary variables of the reduced guess
   int start_dropped = 0;           //   and those of the guess zeroed to reach it
   double polish_violation = 0.0;   // perturbed runs: −min of the basic values without the perturbation, or 0
+                                   // (given_basis: −min of that basis's values)
+  std::vector<char> z_basic;       // solved: per complementary variable, 1 if z_i is in the final basis
   std::string message;
 };
 

@@ -41,7 +41,8 @@ grep -q "gap" "$work/other.err" || fail "the error does not name the differing p
 /usr/bin/python3 - "$work/all.json" "$work/out/perturbations.csv" <<'PY' || fail "perturb: the default small-gap check"
 import csv, json, sys
 d = json.load(open(sys.argv[1]))
-assert d["check_linearity"] is True and d["used"] == 2 and d["nonlinear"] == 0, d
+assert d["check_linearity"] is True and d["check_by_continuation"] is True, d
+assert d["used"] == 2 and d["nonlinear"] == 0, d
 for r in csv.DictReader(open(sys.argv[2])):
     assert r["status"] == "ok", r
     assert abs(float(r["fcrit_10xi"]) - float(r["f_crit"])) < 1e-6 * float(r["f_crit"]), r
@@ -60,6 +61,20 @@ for r in csv.DictReader(open(sys.argv[2])):
 PY
 "$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/lin" >/dev/null 2>"$work/lin.err"; code=$?
 [ "$code" -eq 2 ] && grep -q "check_linearity" "$work/lin.err" || fail "records of an unchecked run resumed a checked one: exit $code"
+# --cold-check: the same verdicts on this linear response (one answer), recorded as a cold
+# check, whose records do not resume a continued run.
+"$unjam" perturb "$work/vg.unjam" --all --cold-check --json --threads 1 -o "$work/cold" >"$work/cold.json" 2>/dev/null \
+  || fail "perturb --cold-check: exit $?"
+/usr/bin/python3 - "$work/cold.json" "$work/cold/perturbations.csv" "$work/out/perturbations.csv" <<'PY' || fail "perturb --cold-check report"
+import csv, json, sys
+d = json.load(open(sys.argv[1]))
+assert d["check_linearity"] is True and d["check_by_continuation"] is False and d["used"] == 2, d
+continued = {r["index"]: r for r in csv.DictReader(open(sys.argv[3]))}
+for r in csv.DictReader(open(sys.argv[2])):
+    assert r["status"] == "ok" and r["f_crit"] == continued[r["index"]]["f_crit"], (r, continued[r["index"]])
+PY
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/cold" >/dev/null 2>"$work/cold.err"; code=$?
+[ "$code" -eq 2 ] && grep -q "check_by_continuation" "$work/cold.err" || fail "records of a cold check resumed a continued one: exit $code"
 
 # A blocked perturbation: at fixed volume a frictionless packing cannot open a contact
 # (docs/perturbations.md). Reported as blocked with no F_crit; exit 3 only if asked.

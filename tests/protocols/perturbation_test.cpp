@@ -279,8 +279,10 @@ TEST(Perturbation, FrictionalQuasiStaticOpeningIsLinearInTheGap) {
 
 // --check-linearity applies that test to each quasi-static response. Contact 139–286 of
 // the same packing opens with an inertia ratio of 6e-7, below the 1e-6 of a quasi-static
-// step, but its motion is 600 ξ and does not scale with ξ: at 10ξ the grains move to 14
-// times the misfit allowed, and F_crit changes by 0.024. It is reported as "nonlinear".
+// step, but its motion is 600 ξ and does not scale with ξ: the stick/slide/open pattern
+// of the answer at ξ does not solve the step at 10ξ (residual 6.7e-9 against 1e-10), the
+// path from it ends on another motion, at 14 times the misfit allowed, and F_crit changes
+// by 0.024. It is reported as "nonlinear".
 TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
@@ -295,6 +297,33 @@ TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
   EXPECT_EQ(r.status, "nonlinear");
   EXPECT_GT(r.linearity_misfit, 1.0);
   EXPECT_GT(std::abs(r.fcrit_10xi - r.f_crit), 1e-3 * base.mean_contact_force);
+}
+
+// The check continues the answer at ξ: the step at 10ξ is solved first on the answer's
+// own basis (its stick/slide/open pattern). Contact 3–447 of the default packing is
+// linear on it (the same basis solves the step at 10ξ to residual 1e-15; the motion
+// scales to 2e-7). Solved from zero impulses instead (check_by_continuation = false,
+// `--cold-check`), the step at 10ξ ends on another member of its family of solutions
+// (misfit 0.43, F_crit 1.678 against 1.477), which the cold check calls nonlinear: the
+// answer is one member, and which member a path from zero picks depends on ξ.
+TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const PerturbationTarget target = OpeningOf(base, 3, 447);
+  ASSERT_EQ(target.i, 3);
+  ASSERT_TRUE(o.check_linearity && o.check_by_continuation);  // the defaults
+  const PerturbationResult r = Perturb(base, target, o);
+  ASSERT_EQ(r.status, "ok") << r.solve.message;
+  EXPECT_LT(r.linearity_misfit, 1e-5);
+  EXPECT_NEAR(r.fcrit_10xi, r.f_crit, 1e-4 * r.f_crit);
+  EXPECT_NE(r.solve.message.find("10 xi check: Lemke: the given basis: residual"), std::string::npos) << r.solve.message;
+  PerturbationOptions cold = o;
+  cold.check_by_continuation = false;
+  const PerturbationResult c = Perturb(base, target, cold);
+  EXPECT_EQ(c.f_crit, r.f_crit);  // the same answer at ξ
+  EXPECT_EQ(c.status, "nonlinear") << c.linearity_misfit;
+  EXPECT_GT(c.linearity_misfit, 0.1);
 }
 
 // Lemke's paths on a pile take up the gravity load of every contact from zero impulses:

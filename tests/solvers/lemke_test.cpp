@@ -3,6 +3,7 @@
 // smooth backends stall: resolved to round-off, and its critical force inside the
 // admissible interval of the independent linear program (issue 5's route).
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -122,6 +123,49 @@ TEST(LemkeWarmStart, ADependentGuessIsReducedToABasisAlongItsSelfStress) {
   EXPECT_NEAR(r.z[0], 1.0, 1e-15);
   EXPECT_EQ(r.z[1], 0.0);
   EXPECT_NEAR(r.x[0], 0.0, 1e-15);
+}
+
+// A given basis (Mlcp::given_basis): the basis of an answer, carried to a nearby problem
+// and solved as it is. It gives that problem's solution where it stays feasible (both
+// components of the SPD example, for a right-hand side twice as large), reports by how
+// much it is infeasible elsewhere, and a singular one is an error.
+TEST(LemkeGivenBasis, SolvesANearbyProblemOnTheSameBasisWithoutAPivot) {
+  Mlcp p = Lcp(Dense(2, 2, {2, 1, 1, 2}), Eigen::Vector2d(-10, -12));
+  p.given_basis = {1, 1};
+  const auto r = SolveMlcp(p, 100, 1e-16);
+  ASSERT_EQ(r.outcome, LemkeOutcome::kSolved) << r.message;
+  EXPECT_EQ(r.pivots, 0);
+  EXPECT_NEAR(r.z[0], 8.0 / 3.0, 1e-14);
+  EXPECT_NEAR(r.z[1], 14.0 / 3.0, 1e-14);
+  EXPECT_EQ(r.polish_violation, 0.0);
+  EXPECT_EQ(r.z_basic, std::vector<char>({1, 1}));
+}
+
+TEST(LemkeGivenBasis, AnInfeasibleBasisIsReportedNotHidden) {
+  // On q = (−2, 3) the basis (z₁, z₂) gives z = M⁻¹(2, −3) = (7/3, −8/3); the solution is
+  // (1, 0) on the basis (z₁, w₂), which a path finds.
+  Mlcp p = Lcp(Dense(2, 2, {2, 1, 1, 2}), Eigen::Vector2d(-2, 3));
+  p.given_basis = {1, 1};
+  const auto r = SolveMlcp(p, 100, 1e-16);
+  ASSERT_EQ(r.outcome, LemkeOutcome::kSolved) << r.message;
+  EXPECT_NEAR(r.polish_violation, 8.0 / 3.0, 1e-14);
+  EXPECT_EQ(r.z[1], 0.0);
+  p.given_basis.clear();
+  const auto path = SolveMlcp(p, 100, 1e-16);
+  EXPECT_NEAR(path.z[0], 1.0, 1e-15);
+  EXPECT_EQ(path.z_basic, std::vector<char>({1, 0}));
+}
+
+TEST(LemkeGivenBasis, ASingularBasisIsAnError) {
+  // Two identical contacts hold one free velocity: both impulses basic is singular.
+  Mlcp p;
+  p.p = Dense(1, 2, {1, 1});
+  p.x0 = Eigen::VectorXd::Constant(1, -1.0);
+  p.d = Dense(2, 1, {1, 1});
+  p.e_matrix = Dense(2, 2, {0, 0, 0, 0});
+  p.e = Eigen::Vector2d::Zero();
+  p.given_basis = {1, 1};
+  EXPECT_EQ(SolveMlcp(p, 100, 1e-16).outcome, LemkeOutcome::kSingularBasis);
 }
 
 TEST(LemkeCore, FreeVariablesStayBasic) {

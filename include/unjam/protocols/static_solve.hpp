@@ -8,6 +8,7 @@
 // own solution; with hyperstatic, path-dependent forces it stays on it).
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct StaticSolveOptions {
 struct StaticSolution {
   std::vector<Contact> contacts;
   std::vector<Eigen::Vector2d> forces;  // (f_n, f_t) per contact
+  // Per contact, the basis of a pivoting backend's answer (SolveResult::basis; 0 for a
+  // contact outside the problem), or empty.
+  std::vector<std::uint8_t> basis;
   SolveReport report;
   EquilibriumReport equilibrium;
   double max_speed = 0.0;               // largest end-of-step particle speed (0 if static)

@@ -91,6 +91,10 @@ struct SolveReport {
 struct SolveResult {
   Eigen::VectorXd impulses;      // UnknownsPerContact() per contact: (r_n[, r_t]); 2 per contact in W form
   SolveReport report;
+  // Pivoting backends (lemke), on an answer that is exactly one basis's solution: per
+  // contact, which of its complementarity variables that basis holds (ContactProblem::
+  // initial_basis); empty otherwise.
+  std::vector<std::uint8_t> basis;
 };
 
 class ContactSolver {
