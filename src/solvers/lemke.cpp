@@ -356,7 +356,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     }
     if (report.status != SolveStatus::kConverged && (result.impulses.size() == 0 || residual < report.residual)) {
       result.impulses = impulses;
-      // The basis is the answer's only where the answer is that basis's solution.
+      // The run's basis where the answer is that basis's solution, else the pattern's.
       const bool basis_answer = solved && run.form == ConeForm::kSlipSpeed && lemke.polish_violation == 0.0 && impulses == posed.t * lemke.z;
       result.basis = basis_answer ? CompressBasis(k, lemke.z_basic) : BasisOfPattern(k, impulses, velocity_scale);
       report.residual = residual;

@@ -64,11 +64,11 @@ struct ContactProblem {
   std::vector<ProblemContact> contacts;
   // Optional warm start: impulses of the previous step, UnknownsPerContact() per contact.
   Eigen::VectorXd initial_guess;
-  // Optional, for pivoting backends (lemke, with lemke_warm_start): per contact, the basis
-  // of a previous answer (SolveResult::basis), bit k set if the k-th complementarity
-  // variable of the contact's law (lemke.cpp: r_n, a, b, s; p, m if bilateral; r_n if
-  // frictionless) is basic. The answer at gap ξ passes it to the step at 10ξ, whose
-  // contacts are the same. Empty: none.
+  // Optional, for pivoting backends (lemke, which solves it first as it is): per contact,
+  // the basis of a previous answer (SolveResult::basis), bit k set if the k-th
+  // complementarity variable of the contact's law (lemke.cpp: r_n, a, b, s; p, m if
+  // bilateral; r_n if frictionless) is basic. The answer at gap ξ passes it to the step
+  // at 10ξ, whose contacts are the same. Empty: none.
   std::vector<std::uint8_t> initial_basis;
 
   int NumBodies() const { return static_cast<int>(inv_mass.size()); }

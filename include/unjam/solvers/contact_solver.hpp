@@ -91,9 +91,10 @@ struct SolveReport {
 struct SolveResult {
   Eigen::VectorXd impulses;      // UnknownsPerContact() per contact: (r_n[, r_t]); 2 per contact in W form
   SolveReport report;
-  // Pivoting backends (lemke), on an answer that is exactly one basis's solution: per
-  // contact, which of its complementarity variables that basis holds (ContactProblem::
-  // initial_basis); empty otherwise.
+  // Pivoting backends (lemke): per contact, which of its complementarity variables the
+  // answer's basis holds (ContactProblem::initial_basis), the basis the path ended on or,
+  // for an answer that is no one basis's solution, the one its stick/slide/open pattern
+  // implies; empty from other backends.
   std::vector<std::uint8_t> basis;
 };
 
