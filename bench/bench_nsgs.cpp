@@ -7,8 +7,11 @@
 // μ = 0; (2) a dense periodic packing of 56 × 56 = 3136 disks under a pressure bath (a
 // triangular lattice whose radii are shrunk at random by up to 0.1%: a disordered contact
 // network of about 9400 contacts), and (3) the same lattice from 56² to 160² disks, to see
-// where the contacts outgrow the cache. The counter ns_per_update = wall time / (sweeps ×
-// contacts); a fixed number of sweeps is timed, the residual evaluated at the start and end.
+// where the contacts outgrow the cache; (4) the bundled pile problems/gravity-n1600-mu0.1.unjam
+// under gravity, swept at random or by height. The counter ns_per_update = wall time /
+// (sweeps × contacts); a fixed number of sweeps is timed, the residual evaluated at the
+// start and end. BM_NsgsPileFromRest instead solves the pile's static step from zero
+// impulses to a tolerance and counts the sweeps it takes (counter `sweeps`).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -47,9 +50,10 @@ ContactProblem DenseProblem(double mu, int side) {
 }
 
 const char kJammed[] = UNJAM_SOURCE_DIR "/problems/pressure-n3000-mu0.5.unjam";
+const char kPile[] = UNJAM_SOURCE_DIR "/problems/gravity-n1600-mu0.1.unjam";
 
-ContactProblem JammedProblem(double mu) {
-  Scene s = ReadPacking(kJammed);
+ContactProblem StoredProblem(const char* path, double mu) {
+  Scene s = ReadPacking(path);
   s.effects.friction = mu;
   AssemblyOptions o;
   o.dt = 1.0;
@@ -57,12 +61,14 @@ ContactProblem JammedProblem(double mu) {
   return AssembleProblem(s, DetectContacts(s, 1e-6), o).problem;
 }
 
+ContactProblem JammedProblem(double mu) { return StoredProblem(kJammed, mu); }
+
 void TimeSweeps(benchmark::State& state, const ContactProblem& p) {
   SolverOptions o;
   o.tolerance = 1e-300;  // never reached: time a fixed number of sweeps
   o.max_iterations = 100;
   o.check_interval = 100;
-  constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal};
+  constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal, SweepOrder::kHeight};
   o.sweep_order = kOrders[state.range(1)];
   auto solver = MakeSolver("nsgs");
   std::int64_t updates = 0;
@@ -90,15 +96,49 @@ void BM_NsgsSweepsJammed3000(benchmark::State& state) {
   TimeSweeps(state, JammedProblem(state.range(0) / 100.0));
 }
 
+void BM_NsgsSweepsPile1600(benchmark::State& state) {
+  if (!std::filesystem::exists(kPile)) {
+    state.SkipWithError("problems/gravity-n1600-mu0.1.unjam not found (scripts/make-problems.sh)");
+    return;
+  }
+  TimeSweeps(state, StoredProblem(kPile, state.range(0) / 100.0));
+}
+
+// Sweeps from zero impulses to residual 10^-range(2) (the limit 10^6 sweeps).
+void BM_NsgsPileFromRest(benchmark::State& state) {
+  if (!std::filesystem::exists(kPile)) {
+    state.SkipWithError("problems/gravity-n1600-mu0.1.unjam not found (scripts/make-problems.sh)");
+    return;
+  }
+  const ContactProblem p = StoredProblem(kPile, state.range(0) / 100.0);
+  SolverOptions o;
+  o.tolerance = std::pow(10.0, -static_cast<double>(state.range(2)));
+  o.max_iterations = 1000000;
+  constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal, SweepOrder::kHeight};
+  o.sweep_order = kOrders[state.range(1)];
+  auto solver = MakeSolver("nsgs");
+  SolveResult r;
+  for (auto _ : state) {
+    r = solver->Solve(p, o);
+    benchmark::DoNotOptimize(r.impulses.data());
+  }
+  state.counters["sweeps"] = r.report.iterations;
+  state.counters["residual"] = r.report.residual;
+  state.counters["ns_per_update"] = r.report.seconds * 1e9 / static_cast<double>(r.report.contact_updates);
+}
+
 // The lattice with side² disks: from N = 3136 (9 400 contacts, which fit in the core's
 // cache) to N = 25 600 (77 000 contacts, which do not).
 void BM_NsgsSweepsBySize(benchmark::State& state) {
   TimeSweeps(state, DenseProblem(state.range(0) / 100.0, static_cast<int>(state.range(2))));
 }
 
-// Args: μ × 100, sweep order (0 forward, 1 random, 2 local)[, lattice side].
+// Args: μ × 100, sweep order (0 forward, 1 random, 2 local, 3 height)[, lattice side, or
+// −log10 of the tolerance].
 BENCHMARK(BM_NsgsSweepsJammed3000)->Args({50, 1})->Args({0, 1})->Args({50, 2})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweeps)->Args({0, 1})->Args({50, 1})->Args({0, 0})->Args({50, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsSweepsPile1600)->Args({10, 1})->Args({10, 3})->Args({10, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsPileFromRest)->Args({10, 1, 4})->Args({10, 3, 4})->Args({10, 0, 4})->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK(BM_NsgsSweepsBySize)
     ->Args({50, 1, 56})->Args({50, 1, 80})->Args({50, 1, 112})->Args({50, 1, 160})
     ->Args({50, 2, 56})->Args({50, 2, 80})->Args({50, 2, 112})->Args({50, 2, 160})

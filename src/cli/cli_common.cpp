@@ -14,7 +14,7 @@ void SolverFlags::Register(CLI::App& app) {
   app.add_option("--tol", options.tolerance, "tolerance on the unjam residual (docs/residual.md)")->capture_default_str();
   app.add_option("--max-iter", options.max_iterations, "NSGS sweep limit (newton: of its NSGS warm-up; ipopt, nlopt: De Saxce outer iterations; lemke: pivots over all its runs)")->capture_default_str();
   app.add_option("--relaxation", options.relaxation, "NSGS over-relaxation factor in (0, 2)")->capture_default_str();
-  app.add_option("--order", order, "NSGS sweep order: random, forward, symmetric, local (random blocks of neighbouring contacts: faster on large packings, docs/performance.md)")->capture_default_str();
+  app.add_option("--order", order, "NSGS sweep order: random, forward, symmetric, local (random blocks of neighbouring contacts: faster on large packings), height (contacts by height, swept up and down in turn: for piles; docs/performance.md)")->capture_default_str();
   app.add_option("--sweep-seed", options.seed, "seed of the random sweep order")->capture_default_str();
   app.add_option("--newton-iter", options.newton_max_iterations, "Newton iteration limit (each one a sparse LU)")->capture_default_str();
   app.add_option("--warmup-tol", options.newton_warmup_tolerance, "Newton: NSGS warms up to this residual first")->capture_default_str();

@@ -28,7 +28,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--dt", dt, "time step (default 1e-2 pressure, 5e-3 gravity)")->check(CLI::PositiveNumber);
   app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step (default 1e-8 with newton, 1e-4 with the others)")->check(CLI::PositiveNumber);
   app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton, ipopt, nlopt; auto: newton if mu = 0, else nsgs)")->capture_default_str();
-  app.add_option("--order", order, "NSGS sweep order of the steps and of the certificate's static solves: random, or local (random blocks of neighbouring contacts: the same convergence, faster once the contacts outgrow the cache, N >= 4000; docs/performance.md)")->check(CLI::IsMember({"random", "local"}))->capture_default_str();
+  app.add_option("--order", order, "NSGS sweep order of the steps and of the certificate's static solves: random, local (random blocks of neighbouring contacts: the same convergence, faster once the contacts outgrow the cache, N >= 4000), or height (contacts by height, swept up and down in turn: for piles; docs/performance.md)")->check(CLI::IsMember({"random", "local", "height"}))->capture_default_str();
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();

@@ -87,6 +87,10 @@ ProblemContact MakeProblemContact(const Scene& scene, const Contact& c, const As
   pc.arm_j = c.branch_j.norm();
   pc.cell_arm = out.problem.cell && !c.WithWall() ? c.center_to_center.dot(c.normal) : 0.0;
   pc.mu = scene.effects.friction;
+  if (scene.effects.gravity && scene.effects.gravity->norm() > 0.0) {
+    const Vec2 point = scene.particles[c.i].position + c.branch_i;
+    pc.height = -scene.effects.gravity->normalized().dot(point);
+  }
   const Vec2 t = Perp(c.normal);
   if (pc.body_i < 0) {
     const auto [v, w] = KnownMotion(scene, c.i);

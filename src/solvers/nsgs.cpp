@@ -134,6 +134,10 @@ Layout MakeLayout(const ContactProblem& p, SweepOrder order) {
   Layout layout;
   layout.contact_at.resize(p.NumContacts());
   std::iota(layout.contact_at.begin(), layout.contact_at.end(), 0);
+  if (order == SweepOrder::kHeight) {
+    std::stable_sort(layout.contact_at.begin(), layout.contact_at.end(),
+                     [&](int a, int b) { return p.contacts[a].height < p.contacts[b].height; });
+  }
   layout.body_slot.resize(p.NumBodies());
   std::iota(layout.body_slot.begin(), layout.body_slot.end(), 0);
   return layout;

@@ -30,13 +30,14 @@ const char* ToString(SweepOrder order) {
     case SweepOrder::kForward: return "forward";
     case SweepOrder::kSymmetric: return "symmetric";
     case SweepOrder::kLocal: return "local";
+    case SweepOrder::kHeight: return "height";
   }
   return "unknown";
 }
 
 SweepOrder SweepOrderFromString(const std::string& name) {
   std::string known;
-  for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal}) {
+  for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal, SweepOrder::kHeight}) {
     if (name == ToString(o)) return o;
     known += (known.empty() ? "" : ", ") + std::string(ToString(o));
   }

@@ -42,6 +42,7 @@ inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<s
     case SweepOrder::kForward:
       return;
     case SweepOrder::kSymmetric:  // forward, backward, forward, …
+    case SweepOrder::kHeight:     // the same over contacts laid out by height
       if (sweep > 0) std::reverse(order.begin(), order.end());
       return;
     case SweepOrder::kRandom:

@@ -79,6 +79,19 @@ d = json.load(open(sys.argv[1]))
 assert d["jammed"] and d["static_solve"]["converged"] and d["equilibrium_residual"] < 1e-8, d
 assert d["parameters"]["order"] == "local", d["parameters"]
 PY
+# --order height (contacts by height, for piles): the same certified kind of packing,
+# deterministic, recorded; the default order's packing is not changed by its existence.
+for run in h1 h2; do
+  "$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 --order height -o "$work/$run.unjam" --json --quiet >"$work/$run.json" || fail "pack --order height: exit $?"
+done
+cmp -s "$work/h1.unjam" "$work/h2.unjam" || fail "--order height: same seed, different packings"
+grep -q '^provenance.*--order height' "$work/h1.unjam" || fail "--order height not in the provenance: $(grep provenance "$work/h1.unjam")"
+/usr/bin/python3 - "$work/h1.json" <<'PY' || fail "pack --order height --json"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["jammed"] and d["static_solve"]["converged"] and d["equilibrium_residual"] < 1e-8, d
+assert d["parameters"]["order"] == "height", d["parameters"]
+PY
 "$unjam" pack --protocol gravity --n 12 --order zigzag -o "$work/z.unjam" 2>"$work/err"; code=$?
 [ "$code" -eq 2 ] || fail "--order zigzag: exit $code, expected 2"
 grep -q -- "--order" "$work/err" || fail "the error does not name --order: $(cat "$work/err")"

@@ -57,6 +57,18 @@ TEST(Assembly, GravityIsTheOnlySourceOfFreeVelocity) {
   EXPECT_EQ(AssembleProblem(s, {}, o).problem.free_velocity[0], Vec2(0.0, -0.02));
 }
 
+// The height of a contact point against gravity, read only by NSGS's height order: the
+// point of contact of disks 0 and 1 (centres (1, 1) and (1.9, 1), radius 0.5, overlapping)
+// lies on the line between them at R from disk 0.
+TEST(Assembly, ContactHeightIsMeasuredAgainstGravityAndZeroWithout) {
+  Scene s = Pair(0.0);
+  EXPECT_EQ(Assemble(s).problem.contacts[0].height, 0.0);
+  s.effects.gravity = Vec2(0.0, -2.0);
+  EXPECT_DOUBLE_EQ(Assemble(s).problem.contacts[0].height, 1.0);
+  s.effects.gravity = Vec2(3.0, 0.0);  // gravity along +x: height is −x of the point
+  EXPECT_DOUBLE_EQ(Assemble(s).problem.contacts[0].height, -1.5);
+}
+
 TEST(Assembly, PressureBathAddsOneCellDegreeOfFreedom) {
   Scene s = testing::TriangularLattice(4, 4, 0.5);
   EXPECT_EQ(Assemble(s).problem.NumDofs(), 2 * 16);

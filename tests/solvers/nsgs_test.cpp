@@ -1,9 +1,11 @@
 // Tests for src/solvers/nsgs.cpp, residual.cpp and solver_registry.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "test_problems.hpp"
+#include "test_scenes.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 #include "unjam/solvers/residual.hpp"
 
@@ -73,7 +75,7 @@ TEST(Nsgs, ReportsTheIterationLimitInsteadOfHidingIt) {
 
 TEST(Nsgs, EverySweepOrderAndRelaxationReachesTheUniqueForces) {
   const ContactProblem p = StackProblem(12, 0.0);
-  for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal}) {
+  for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal, SweepOrder::kHeight}) {
     for (double omega : {1.0, 1.5}) {
       SolverOptions o;
       o.sweep_order = order;
@@ -121,6 +123,34 @@ TEST(Nsgs, LocalOrderReturnsEveryImpulseToItsOwnContact) {
   for (int c = 0; c < k; ++c) {
     EXPECT_NEAR(r.impulses[2 * c], (k - c) * w, 1e-6 * k * w) << "contact " << c;
     EXPECT_NEAR(r.impulses[2 * c + 1], 0.0, 1e-6 * k * w) << "contact " << c;
+  }
+}
+
+// The height order lays the contacts out by ProblemContact::height: in a stack numbered
+// from the top, the contact order of the problem (by particle index) is the reverse of the
+// height order, and every impulse must still come back to its own contact. Contact c from
+// the floor carries (k − c) weights, and its height is 2 r c.
+TEST(Nsgs, HeightOrderReturnsEveryImpulseToItsOwnContact) {
+  const int k = 40;
+  const double r = 0.5;
+  Scene s = testing::Stack(k, r, 1.0, 0.3);
+  std::reverse(s.particles.begin(), s.particles.end());
+  AssemblyOptions a;
+  a.dt = 1.0;
+  const ContactProblem p = AssembleProblem(s, DetectContacts(s, 1e-6), a).problem;
+  ASSERT_EQ(p.NumContacts(), k);
+  ASSERT_GT(p.contacts.front().height, p.contacts.back().height);  // problem order: top first
+  SolverOptions o;
+  o.sweep_order = SweepOrder::kHeight;
+  o.tolerance = 1e-12;
+  o.max_iterations = 1000000;
+  const SolveResult res = MakeSolver("nsgs")->Solve(p, o);
+  ASSERT_TRUE(res.report.converged()) << res.report.residual;
+  const double w = std::numbers::pi * r * r;
+  for (int q = 0; q < k; ++q) {
+    const int c = static_cast<int>(std::lround(p.contacts[q].height / (2.0 * r)));
+    EXPECT_NEAR(res.impulses[2 * q], (k - c) * w, 1e-9 * k * w) << "contact " << q << " at level " << c;
+    EXPECT_NEAR(res.impulses[2 * q + 1], 0.0, 1e-9 * k * w) << "contact " << q;
   }
 }
 

@@ -45,6 +45,9 @@ struct ProblemContact {
   Vec2 bias = Vec2::Zero(); // (normal, tangential) relative velocity from sides without dofs
   double mu = 0.0;
   ConstraintKind kind = ConstraintKind::kUnilateral;
+  // Height of the contact point against gravity (−ĝ·x), 0 in a scene without gravity.
+  // Not part of the law: only the sweep order SweepOrder::kHeight reads it.
+  double height = 0.0;
 };
 
 // The cell strain rate λ as a degree of freedom: λ = free_rate + inv_mass Σ_k c_k r_n,k.
