@@ -201,6 +201,7 @@ constexpr double kEpsilonMax = 1e2;
 constexpr double kSubproblemReduction = 1e-3;  // a subproblem is solved when θ_ε falls by this
 constexpr int kStallIterations = 15;  // Newton iterations without halving the best residual
 constexpr int kMaxRounds = 4;         // NSGS warm-up + Newton rounds
+constexpr Eigen::Index kMetisRows = 10000;  // Newton systems at least this large are ordered by METIS
 
 struct Iterate {
   Eigen::VectorXd impulses;
@@ -269,7 +270,14 @@ class NewtonPhase {
 
   bool Direction(const Evaluation& eval, double epsilon, Eigen::VectorXd& step) {
     const SparseMatrix k = NewtonMatrix(op_, eval.local, epsilon);
-    if (!analysed_) { lu_.analyzePattern(k); analysed_ = true; }
+    if (!analysed_) {
+      // METIS's fill-reducing order factorises large systems several times faster than
+      // UMFPACK's default (AMD); below the threshold the default stays, and with it the
+      // pivot order and the bits of every smaller solve (docs/performance.md).
+      if (k.rows() >= kMetisRows) lu_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+      lu_.analyzePattern(k);
+      analysed_ = true;
+    }
     lu_.factorize(k);
     if (lu_.info() != Eigen::Success) {
       lu_.compute(k);  // the pivot order of the first analysis no longer fits
