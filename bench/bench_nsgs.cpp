@@ -18,6 +18,7 @@
 #include <random>
 
 #include <filesystem>
+#include <string>
 
 #include "unjam/io/packing_file.hpp"
 #include "unjam/problem/assembly.hpp"
@@ -63,12 +64,21 @@ ContactProblem StoredProblem(const char* path, double mu) {
 
 ContactProblem JammedProblem(double mu) { return StoredProblem(kJammed, mu); }
 
+// A bundled problem file, or the benchmark is skipped with the command that makes it.
+bool Bundled(benchmark::State& state, const char* path) {
+  if (std::filesystem::exists(path)) return true;
+  state.SkipWithError((std::string(path) + " not found (scripts/make-problems.sh)").c_str());
+  return false;
+}
+
+// The benchmarks' sweep-order argument: 0 forward, 1 random, 2 local, 3 height.
+constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal, SweepOrder::kHeight};
+
 void TimeSweeps(benchmark::State& state, const ContactProblem& p) {
   SolverOptions o;
   o.tolerance = 1e-300;  // never reached: time a fixed number of sweeps
   o.max_iterations = 100;
   o.check_interval = 100;
-  constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal, SweepOrder::kHeight};
   o.sweep_order = kOrders[state.range(1)];
   auto solver = MakeSolver("nsgs");
   std::int64_t updates = 0;
@@ -89,32 +99,22 @@ void BM_NsgsSweeps(benchmark::State& state) {
 }
 
 void BM_NsgsSweepsJammed3000(benchmark::State& state) {
-  if (!std::filesystem::exists(kJammed)) {
-    state.SkipWithError("problems/pressure-n3000-mu0.5.unjam not found (scripts/make-problems.sh)");
-    return;
-  }
+  if (!Bundled(state, kJammed)) return;
   TimeSweeps(state, JammedProblem(state.range(0) / 100.0));
 }
 
 void BM_NsgsSweepsPile1600(benchmark::State& state) {
-  if (!std::filesystem::exists(kPile)) {
-    state.SkipWithError("problems/gravity-n1600-mu0.1.unjam not found (scripts/make-problems.sh)");
-    return;
-  }
+  if (!Bundled(state, kPile)) return;
   TimeSweeps(state, StoredProblem(kPile, state.range(0) / 100.0));
 }
 
 // Sweeps from zero impulses to residual 10^-range(2) (the limit 10^6 sweeps).
 void BM_NsgsPileFromRest(benchmark::State& state) {
-  if (!std::filesystem::exists(kPile)) {
-    state.SkipWithError("problems/gravity-n1600-mu0.1.unjam not found (scripts/make-problems.sh)");
-    return;
-  }
+  if (!Bundled(state, kPile)) return;
   const ContactProblem p = StoredProblem(kPile, state.range(0) / 100.0);
   SolverOptions o;
   o.tolerance = std::pow(10.0, -static_cast<double>(state.range(2)));
   o.max_iterations = 1000000;
-  constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal, SweepOrder::kHeight};
   o.sweep_order = kOrders[state.range(1)];
   auto solver = MakeSolver("nsgs");
   SolveResult r;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace unjam {
@@ -87,10 +88,6 @@ ProblemContact MakeProblemContact(const Scene& scene, const Contact& c, const As
   pc.arm_j = c.branch_j.norm();
   pc.cell_arm = out.problem.cell && !c.WithWall() ? c.center_to_center.dot(c.normal) : 0.0;
   pc.mu = scene.effects.friction;
-  if (scene.effects.gravity && scene.effects.gravity->norm() > 0.0) {
-    const Vec2 point = scene.particles[c.i].position + c.branch_i;
-    pc.height = -scene.effects.gravity->normalized().dot(point);
-  }
   const Vec2 t = Perp(c.normal);
   if (pc.body_i < 0) {
     const auto [v, w] = KnownMotion(scene, c.i);
@@ -127,6 +124,9 @@ AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>&
   if (scene.effects.pressure_bath) FillCell(scene, options.dt, out);
   p.contacts.reserve(contacts.size());
   out.source_contact.reserve(contacts.size());
+  // Against gravity, for NSGS's height order (ProblemContact::height).
+  std::optional<Vec2> up;
+  if (scene.effects.gravity && scene.effects.gravity->norm() > 0.0) up = -scene.effects.gravity->normalized();
   for (int k = 0; k < static_cast<int>(contacts.size()); ++k) {
     const Contact& c = contacts[k];
     const bool i_moves = out.body_of_particle[c.i] >= 0;
@@ -134,6 +134,7 @@ AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>&
     const bool cell_moves = p.cell && !c.WithWall();
     if (!i_moves && !j_moves && !cell_moves) continue;
     p.contacts.push_back(MakeProblemContact(scene, c, out, options));
+    if (up) p.contacts.back().height = up->dot(scene.particles[c.i].position + c.branch_i);
     out.source_contact.push_back(k);
   }
   return out;

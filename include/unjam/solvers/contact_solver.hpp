@@ -31,9 +31,9 @@ const char* ToString(SolveStatus status);
 // reads one small region of memory in sequence (a random order over all contacts waits for
 // memory once the contacts outgrow the cache; docs/performance.md).
 // kHeight: NSGS sorts the contacts by ProblemContact::height (bottom first) and sweeps
-// them up, down, up, …: under gravity each sweep carries a correction through the whole
-// height of a pile instead of one layer (docs/performance.md, "Sweep order of a pile").
-// Problems without heights (all 0, or the Delassus form) are swept as kSymmetric.
+// them up, down, up, …: on a pile the same convergence per sweep as kRandom, at a lower
+// cost per sweep (docs/performance.md, "Sweep order of a pile"). Problems without
+// heights (all 0, or the Delassus form) are swept as kSymmetric.
 enum class SweepOrder { kRandom, kForward, kSymmetric, kLocal, kHeight };
 inline constexpr int kLocalBlock = 64;
 const char* ToString(SweepOrder order);
