@@ -61,7 +61,7 @@ std::string Csv(const std::vector<ComparisonRun>& runs) {
   os << "problem,backend,tolerance,status,converged,iterations,residual,force_distance,seconds\n";
   for (const ComparisonRun& r : runs) {
     os << '"' << r.problem << '"' << ',' << r.backend << Format(",%.3g,", r.tolerance) << ToString(r.report.status) << ','
-       << (r.report.converged() ? "true" : "false") << Format(",%d,%.6e,%.6e,%.6f\n", r.report.iterations, r.report.residual,
+       << (r.report.converged() ? "true" : "false") << Format(",%d,%.6e,%.6e,%.6e\n", r.report.iterations, r.report.residual,
                                                                 r.force_distance, r.report.seconds);
   }
   return os.str();
