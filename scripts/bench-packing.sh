@@ -10,15 +10,23 @@
 # into bench/results/work/ (git-ignored), so an interrupted run resumes there. ORDER=local
 # runs `unjam pack --order local` (cheaper sweeps on large cells) into
 # bench/results/packing-vs-n-local.csv instead.
-# MUS (default "0.1 1") lists the friction coefficients.
-# Usage: [STEP_ITER=2000] [REFINE_ITER=N] [ORDER=local] [MUS="0.1"] scripts/bench-packing.sh [BUILD_DIR] [N ...]
+# MUS (default "0.1 1") lists the friction coefficients. DT (default 0.02, unjam's) is the
+# time step; rows at another DT go to their own file, packing-vs-n-dtDT.csv (the rows of
+# packing-vs-n.csv and packing-vs-n-local.csv were measured at 0.01, the default before
+# 2026-11-25). MAX_STEPS (default unjam's) gives up on a run that creeps.
+# Usage: [STEP_ITER=2000] [REFINE_ITER=N] [ORDER=local] [MUS="0.1"] [DT=0.01] [MAX_STEPS=N]
+#        scripts/bench-packing.sh [BUILD_DIR] [N ...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 unjam="${1:-$root/build}/unjam"
 shift || true
 [ $# -gt 0 ] && sizes=("$@") || sizes=(500 1000 2000 4000 8000)
 order="${ORDER:-random}"
-[ "$order" = random ] && out="$root/bench/results/packing-vs-n.csv" || out="$root/bench/results/packing-vs-n-$order.csv"
+dt="${DT:-0.02}"
+suffix=""
+[ "$order" = random ] || suffix="-$order"
+[ "$dt" = 0.01 ] || suffix="$suffix-dt$dt"
+out="$root/bench/results/packing-vs-n$suffix.csv"
 mkdir -p "$(dirname "$out")"
 [ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed,step_iter,refine_iter" >"$out"
 step_iter="${STEP_ITER:-500}"
@@ -28,15 +36,16 @@ mkdir -p "$work"
 for n in "${sizes[@]}"; do
   for mu in ${MUS:-0.1 1}; do
     grep -q "^$n,$mu," "$out" && continue
-    run="$work/n$n-mu$mu-s$step_iter-r$refine_iter"
-    [ "$order" = random ] || run="$run-$order"
-    "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 --step-iter "$step_iter" \
-      --refine-iter "$refine_iter" --order "$order" -o "$run.unjam" --json --quiet >"$run.json" || true
+    run="$work/n$n-mu$mu-s$step_iter-r$refine_iter$suffix"
+    "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 --step-iter "$step_iter" --dt "$dt" \
+      --refine-iter "$refine_iter" --order "$order" --max-steps "${MAX_STEPS:-1000000}" \
+      -o "$run.unjam" --json --quiet >"$run.json" || true
     /usr/bin/python3 - "$run.json" "$n" "$mu" "$step_iter" "$refine_iter" >>"$out" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
+z = "nan" if d["coordination"] is None else f"{d['coordination']:.4f}"  # null: not certified
 print(f"{sys.argv[2]},{sys.argv[3]},{d['seconds']:.2f},{d['steps']},{d['static_checks']},"
-      f"{d['packing_fraction']:.5f},{d['coordination']:.4f},{str(d['jammed']).lower()},{sys.argv[4]},{sys.argv[5]}")
+      f"{d['packing_fraction']:.5f},{z},{str(d['jammed']).lower()},{sys.argv[4]},{sys.argv[5]}")
 PY
     tail -n 1 "$out"
   done

@@ -25,11 +25,11 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--width", width, "cell width, periodic in x (gravity protocol)")->capture_default_str();
   app.add_option("--initial-fraction", initial_fraction, "packing fraction of the dilute start (default 0.3 pressure, 0.35 gravity)");
   app.add_option("--seed", seed, "random seed")->capture_default_str();
-  app.add_option("--dt", dt, "time step (default 1e-2 pressure, 5e-3 gravity)")->check(CLI::PositiveNumber);
-  app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step (default 1e-8 with newton, 1e-4 with the others)")->check(CLI::PositiveNumber);
+  app.add_option("--dt", dt, "time step (default 0.02 T0; T0 = R_max sqrt(rho/P_ext) = 1 at the default pressure, sqrt(R_max/g) = 1 for piles)")->check(CLI::PositiveNumber);
+  app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step (default 1e-8 with newton; with the others 1e-4, tightened as (0.02 T0/dt)^2 for a larger --dt)")->check(CLI::PositiveNumber);
   app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton, ipopt, nlopt; auto: newton if mu = 0, else nsgs)")->capture_default_str();
   app.add_option("--order", order, "NSGS sweep order of the steps and of the certificate's static solves: random, local (random blocks of neighbouring contacts: the same convergence, faster once the contacts outgrow the cache, N >= 4000), or height (contacts by height, swept up and down in turn: for piles; docs/performance.md)")->check(CLI::IsMember({"random", "local", "height"}))->capture_default_str();
-  app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step (default 500 pressure, 1000 gravity)")->check(CLI::PositiveNumber);
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; docs/method.md, \"Until static\")")->check(CLI::NonNegativeNumber)->capture_default_str();
@@ -45,26 +45,35 @@ namespace {
 
 int Particles(const PackFlags& f) { return f.n > 0 ? f.n : (f.protocol == "pressure" ? 500 : 1600); }
 double InitialFraction(const PackFlags& f) { return f.initial_fraction.value_or(f.protocol == "pressure" ? 0.3 : 0.35); }
-double TimeStep(const PackFlags& f) { return f.dt.value_or(f.protocol == "pressure" ? 1e-2 : 5e-3); }
+GasOptions GasOptionsOf(const PackFlags& f) {
+  GasOptions gas;
+  gas.particles = Particles(f);
+  gas.friction = f.mu;
+  gas.pressure = f.pressure;
+  gas.cell_mass = f.cell_mass;
+  gas.initial_packing_fraction = InitialFraction(f);
+  gas.seed = f.seed;
+  return gas;
+}
 
-Scene InitialScene(const PackFlags& f) {
-  if (f.protocol == "pressure") {
-    GasOptions gas;
-    gas.particles = Particles(f);
-    gas.friction = f.mu;
-    gas.pressure = f.pressure;
-    gas.cell_mass = f.cell_mass;
-    gas.initial_packing_fraction = InitialFraction(f);
-    gas.seed = f.seed;
-    return MakeGranularGas(gas);
-  }
+PileOptions PileOptionsOf(const PackFlags& f) {
   PileOptions pile;
   pile.particles = Particles(f);
   pile.width = f.width;
   pile.friction = f.mu;
   pile.initial_packing_fraction = InitialFraction(f);
   pile.seed = f.seed;
-  return MakeLoosePile(pile);
+  return pile;
+}
+
+double TimeUnit(const PackFlags& f) {
+  return f.protocol == "pressure" ? TimeUnit(GasOptionsOf(f)) : TimeUnit(PileOptionsOf(f));
+}
+
+double TimeStep(const PackFlags& f) { return f.dt.value_or(kPackingTimeStep * TimeUnit(f)); }
+
+Scene InitialScene(const PackFlags& f) {
+  return f.protocol == "pressure" ? MakeGranularGas(GasOptionsOf(f)) : MakeLoosePile(PileOptionsOf(f));
 }
 
 // The shortest decimal that reads back to the same double.
@@ -149,7 +158,7 @@ nlohmann::json PackFlags::Parameters() const {
   p["seed"] = seed;
   p["dt"] = TimeStep(*this);
   p["step_tol"] = StepTolerance();
-  p["step_iter"] = step_iter;
+  p["step_iter"] = StepIterations();
   if (Backend() != "nsgs") p["backend"] = Backend();  // absent from files made before the option
   if (order != "random") p["order"] = order;      // likewise
   p["rest_speed"] = rest_speed;
@@ -173,7 +182,15 @@ std::string PackFlags::Backend() const {
 
 // Newton is for tight steps (at 1e-4 it does no better than NSGS); NSGS's steps are capped
 // by sweeps, and dense packings need loose steps to stay affordable.
-double PackFlags::StepTolerance() const { return step_tol.value_or(Backend() == "newton" ? 1e-8 : 1e-4); }
+double PackFlags::StepTolerance() const {
+  if (step_tol) return *step_tol;
+  return Backend() == "newton" ? 1e-8 : LooseStepTolerance(TimeStep(*this) / TimeUnit(*this));
+}
+
+// A tall frictional pile creeps for ever with 500 sweeps per step (each capped step leaves
+// it a little under-supported); 1000 certify the 1600-disk piles at mu = 0.1 and 1
+// (docs/performance.md, "Time step of the packing runs").
+int PackFlags::StepIterations() const { return step_iter.value_or(protocol == "gravity" ? 1000 : 500); }
 
 int RunPack(const PackFlags& f) {
   const auto start = std::chrono::steady_clock::now();
@@ -187,7 +204,7 @@ int RunPack(const PackFlags& f) {
   Simulation sim(scene, step);
   RelaxOptions relax;
   relax.step_tolerance = f.StepTolerance();
-  relax.step_max_iterations = f.step_iter;
+  relax.step_max_iterations = f.StepIterations();
   relax.rest_speed = f.rest_speed;
   relax.max_steps = f.max_steps;
   relax.static_max_iterations = f.check_iter;

@@ -21,7 +21,7 @@ struct PackFlags {
   std::uint64_t seed = 1;
   std::optional<double> dt;
   std::optional<double> step_tol;  // default: the backend's (StepTolerance)
-  int step_iter = 500;
+  std::optional<int> step_iter;    // default: StepIterations
   std::string backend = "auto";     // auto: newton without friction, nsgs with it
   std::string order = "random";  // NSGS sweep order of the steps and the static solves
   double rest_speed = 1e-2;
@@ -40,6 +40,7 @@ struct PackFlags {
   nlohmann::json Parameters() const;
   std::string Backend() const;          // --backend with auto resolved
   double StepTolerance() const;         // --step-tol, or the resolved backend's default
+  int StepIterations() const;           // --step-iter, or the protocol's default
 };
 
 int RunPack(const PackFlags& flags);

@@ -52,6 +52,8 @@ void AddLooseDisks(Scene& scene, const PileOptions& o, std::mt19937_64& rng) {
 
 }  // namespace
 
+double TimeUnit(const PileOptions& o) { return std::sqrt(1.0 / o.gravity); }
+
 Scene MakeLoosePile(const PileOptions& o) {
   Require(o.particles >= 1, "--n must be at least 1");
   Require(o.width >= 8.0, "--width must be at least 8 (four largest diameters)");

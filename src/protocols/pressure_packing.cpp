@@ -8,6 +8,8 @@
 
 namespace unjam {
 
+double TimeUnit(const GasOptions& o) { return 1.0 / std::sqrt(o.pressure); }
+
 Scene MakeGranularGas(const GasOptions& o) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument(what);

@@ -14,6 +14,11 @@ double VelocityScale(const Scene& scene) {
   return 1.0;
 }
 
+double LooseStepTolerance(double dt_over_t0) {
+  const double ratio = kPackingTimeStep / dt_over_t0;
+  return 1e-4 * std::min(1.0, ratio * ratio);
+}
+
 namespace {
 
 // Mean translational speed of the free particles, or the cell's L·|λ| if larger.

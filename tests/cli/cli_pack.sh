@@ -18,6 +18,19 @@ assert d["equilibrium_residual"] < 1e-8, d["equilibrium_residual"]
 assert d["max_overlap"] < 1e-6, d["max_overlap"]
 PY
 
+# The defaults resolved and recorded: Δt = 0.02 T₀ (T₀ = 1 for a pile, 1/√P_ext for a cell),
+# 1000 sweeps per step for a pile and 500 for a cell, and the loose step tolerance 1e-4,
+# tightened as (0.02 T₀/Δt)² above the default step.
+"$unjam" pack --protocol pressure --n 10 --pressure 4 --max-steps 1 --checkpoint-every 0 -o "$work/p4.unjam" --json --quiet >"$work/p4.json" 2>/dev/null
+"$unjam" pack --protocol gravity --n 10 --width 8 --dt 0.04 --max-steps 1 --checkpoint-every 0 -o "$work/dt.unjam" --json --quiet >"$work/dt.json" 2>/dev/null
+/usr/bin/python3 - "$work/a.json" "$work/p4.json" "$work/dt.json" <<'PY' || fail "the defaults of dt, step_iter and step_tol"
+import json, sys
+pile, cell, coarse = (json.load(open(f))["parameters"] for f in sys.argv[1:])
+assert (pile["dt"], pile["step_iter"], pile["step_tol"]) == (0.02, 1000, 1e-4), pile
+assert (cell["dt"], cell["step_iter"], cell["step_tol"]) == (0.01, 500, 1e-4), cell
+assert coarse["dt"] == 0.04 and abs(coarse["step_tol"] - 2.5e-5) < 1e-18, coarse
+PY
+
 # The saved pile re-solved: static, its own forces, no iteration needed beyond the check.
 "$unjam" solve "$work/a.unjam" --json --tol 1e-10 -o "$work/resolved.unjam" >"$work/solve.json" || fail "solve: exit $?"
 /usr/bin/python3 - "$work/solve.json" "$work/a.unjam" "$work/resolved.unjam" <<'PY' || fail "re-solve changed the forces"

@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "unjam/io/packing_file.hpp"
+#include "unjam/protocols/gravity_pile.hpp"
+#include "unjam/protocols/pressure_packing.hpp"
 #include "unjam/protocols/relax.hpp"
 
 namespace unjam {
@@ -20,6 +22,28 @@ RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations) {
   relax.max_steps = 1;
   relax.refine_max_iterations = refine_max_iterations;
   return RelaxToStatic(sim, relax);
+}
+
+TEST(Relax, LooseStepToleranceHoldsTheStepsGapsAboveTheProtocolTimeStep) {
+  EXPECT_EQ(LooseStepTolerance(5e-3), 1e-4);
+  EXPECT_EQ(LooseStepTolerance(kPackingTimeStep), 1e-4);
+  EXPECT_DOUBLE_EQ(LooseStepTolerance(2.0 * kPackingTimeStep), 2.5e-5);
+  // Above the protocol step, tolerance × Δt² (the size of the gaps a step's error leaves) stays put.
+  for (double dt : {0.03, 0.05, 0.1}) {
+    EXPECT_NEAR(LooseStepTolerance(dt) * dt * dt, 1e-4 * kPackingTimeStep * kPackingTimeStep, 1e-20) << dt;
+  }
+}
+
+TEST(Relax, TimeUnitIsTheMaxRadiusOverTheVelocityScale) {
+  GasOptions gas;
+  gas.pressure = 4.0;
+  EXPECT_DOUBLE_EQ(TimeUnit(gas), 0.5);  // R_max √(ρ/P) with R_max = ρ = 1
+  PileOptions pile;
+  pile.gravity = 4.0;
+  EXPECT_DOUBLE_EQ(TimeUnit(pile), 0.5);  // √(R_max/g)
+  const Scene s = MakeGranularGas(gas);
+  EXPECT_DOUBLE_EQ(TimeUnit(gas), 1.0 / VelocityScale(s));  // R_max = 1: the radii's bound
+  EXPECT_LE(MaxRadius(s), 1.0);
 }
 
 TEST(Relax, UnconvergedStepForcesFailTheCertificateWithoutRefinement) {

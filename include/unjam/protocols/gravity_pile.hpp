@@ -21,6 +21,9 @@ struct PileOptions {
   std::uint64_t seed = 1;
 };
 
+// T₀ = √(R_max/g) of a pile (R_max = 1): the unit of its time step (relax.hpp).
+double TimeUnit(const PileOptions& options);
+
 // Throws std::invalid_argument naming the option when a value is out of range.
 Scene MakeLoosePile(const PileOptions& options);
 

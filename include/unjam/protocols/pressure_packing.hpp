@@ -22,6 +22,9 @@ struct GasOptions {
   std::uint64_t seed = 1;
 };
 
+// T₀ = R_max √(ρ/P_ext) of a gas (R_max = 1, ρ = 1): the unit of its time step (relax.hpp).
+double TimeUnit(const GasOptions& options);
+
 // Throws std::invalid_argument naming the option when a value is out of range.
 Scene MakeGranularGas(const GasOptions& options);
 
