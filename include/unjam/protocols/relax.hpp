@@ -92,8 +92,9 @@ double VelocityScale(const Scene& scene);
 
 // The packing protocols' time step, in units of T₀ = R_max / V₀ (1 for the defaults:
 // R_max = 1, density 1, P_ext = 1 or g = 1). Measured on 1600-disk piles and cells of
-// N = 500 and 3000 (docs/performance.md, "Time step of the packing runs"): 4× fewer steps
-// than at 5e-3 (piles) and 2–3× than at 1e-2 (cells), the same packings statistically;
+// N = 500 and 3000 (docs/performance.md, "Time step of the packing runs"): 3–4× fewer
+// steps than at 5e-3 (piles) and 1.5–3× than at 1e-2 (cells), the same packings within
+// their seed-to-seed scatter;
 // at 0.03 with the loose tolerance below a pile never passes its certificate.
 inline constexpr double kPackingTimeStep = 0.02;
 
