@@ -31,6 +31,25 @@ assert (cell["dt"], cell["step_iter"], cell["step_tol"]) == (0.01, 500, 1e-4), c
 assert coarse["dt"] == 0.04 and abs(coarse["step_tol"] - 2.5e-5) < 1e-18, coarse
 PY
 
+# Units: with Δt = 0.02 T₀ and T₀ = 1/√P_ext, a cell at P_ext = 4 or 1/4 is the cell at
+# P_ext = 1 seen on another clock. Powers of two scale exactly in binary, so the positions
+# must agree bit for bit and every force scale by P_ext exactly.
+for p in 1 4 0.25; do
+  "$unjam" pack --protocol pressure --n 30 --mu 0.5 --pressure $p --checkpoint-every 0 -o "$work/u$p.unjam" --json --quiet >/dev/null || fail "pack --pressure $p: exit $?"
+done
+/usr/bin/python3 - "$work/u1.unjam" "$work/u4.unjam" "$work/u0.25.unjam" <<'PY' || fail "the packing does not scale with P_ext"
+import sys
+def read(path):
+    lines = [l for l in open(path).read().split("\n") if l and not l.startswith("#")]
+    block = lambda key: (lambda i: [list(map(float, l.split())) for l in lines[i + 1:i + 1 + int(lines[i].split()[1])]])(
+        next(i for i, l in enumerate(lines) if l.startswith(key + " ")))
+    return next(l for l in lines if l.startswith("cell ")), block("particles"), block("forces")
+(cell, disks, forces), *others = (read(p) for p in sys.argv[1:])
+for (c, d, f), scale in zip(others, (4.0, 0.25)):
+    assert c == cell and [x[:3] for x in d] == [x[:3] for x in disks], "positions differ"
+    assert len(f) == len(forces) and all(g[4:6] == [scale * h[4], scale * h[5]] for g, h in zip(f, forces)), scale
+PY
+
 # The saved pile re-solved: static, its own forces, no iteration needed beyond the check.
 "$unjam" solve "$work/a.unjam" --json --tol 1e-10 -o "$work/resolved.unjam" >"$work/solve.json" || fail "solve: exit $?"
 /usr/bin/python3 - "$work/solve.json" "$work/a.unjam" "$work/resolved.unjam" <<'PY' || fail "re-solve changed the forces"
