@@ -95,7 +95,18 @@ std::string Provenance(const nlohmann::json& p) {
   return line + " (unjam " + p["unjam"].get<std::string>() + ")";
 }
 
+// A progress line every 1000 steps, or sooner once 10 s have passed since the last one (a
+// pile at today's time step takes about 1 500 steps, a minute or more).
+bool ProgressDue(int step) {
+  using Clock = std::chrono::steady_clock;
+  static Clock::time_point last = Clock::now();
+  if (step % 1000 != 0 && Clock::now() - last < std::chrono::seconds(10)) return false;
+  last = Clock::now();
+  return true;
+}
+
 void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
+  if (!ProgressDue(step)) return;
   const Scene& s = sim.scene();
   std::fprintf(stderr, "step %8d  phi %.5f", step, PackingFraction(s));
   if (s.effects.pressure_bath) {
@@ -211,7 +222,7 @@ int RunPack(const PackFlags& f) {
   relax.refine_max_iterations = f.refine_iter;
   relax.static_backend = f.Backend();
   relax.sweep_order = step.solver.sweep_order;
-  relax.progress_interval = f.quiet ? 0 : 1000;
+  relax.progress_interval = f.quiet ? 0 : 10;  // PrintProgress prints every 1000 steps or 10 s
   relax.progress = PrintProgress;
   if (!f.quiet) relax.on_check = PrintCheck;
 
