@@ -45,24 +45,27 @@ namespace {
 
 int Particles(const PackFlags& f) { return f.n > 0 ? f.n : (f.protocol == "pressure" ? 500 : 1600); }
 double InitialFraction(const PackFlags& f) { return f.initial_fraction.value_or(f.protocol == "pressure" ? 0.3 : 0.35); }
+// What the two protocols' options share (their fields have the same names).
+template <class Options>
+Options CommonOptions(const PackFlags& f) {
+  Options o;
+  o.particles = Particles(f);
+  o.friction = f.mu;
+  o.initial_packing_fraction = InitialFraction(f);
+  o.seed = f.seed;
+  return o;
+}
+
 GasOptions GasOptionsOf(const PackFlags& f) {
-  GasOptions gas;
-  gas.particles = Particles(f);
-  gas.friction = f.mu;
+  GasOptions gas = CommonOptions<GasOptions>(f);
   gas.pressure = f.pressure;
   gas.cell_mass = f.cell_mass;
-  gas.initial_packing_fraction = InitialFraction(f);
-  gas.seed = f.seed;
   return gas;
 }
 
 PileOptions PileOptionsOf(const PackFlags& f) {
-  PileOptions pile;
-  pile.particles = Particles(f);
+  PileOptions pile = CommonOptions<PileOptions>(f);
   pile.width = f.width;
-  pile.friction = f.mu;
-  pile.initial_packing_fraction = InitialFraction(f);
-  pile.seed = f.seed;
   return pile;
 }
 
