@@ -46,6 +46,56 @@ TEST(Relax, TimeUnitIsTheMaxRadiusOverTheVelocityScale) {
   EXPECT_LE(MaxRadius(s), 1.0);
 }
 
+// The bundled small pile, and its highest free particle.
+Scene SmallPile(int& top) {
+  Scene pile = ReadPacking(UNJAM_SOURCE_DIR "/problems/gravity-n100-mu0.5.unjam");
+  top = -1;
+  for (int i = 0; i < static_cast<int>(pile.particles.size()); ++i) {
+    if (pile.particles[i].fixed) continue;
+    if (top < 0 || pile.particles[i].position.y() > pile.particles[top].position.y()) top = i;
+  }
+  return pile;
+}
+
+TEST(Relax, RefinementStopsOnAParticleThatKeepsFalling) {
+  int top = 0;
+  Scene pile = SmallPile(top);
+  pile.particles[top].position.y() += 0.05;  // lifted off its support: it falls in any step
+  RelaxOptions o;
+  o.refine_max_iterations = 30000;
+  const Refinement r = RefineStaticForces(pile, pile.forces, o);
+  EXPECT_TRUE(r.still_moving);
+  EXPECT_EQ(r.sweeps, 2 * kRefineChunk) << "two chunks show the same fall";
+}
+
+TEST(Relax, RefinementOfAStaticPileRestoresItsForces) {
+  int top = 0;
+  Scene pile = SmallPile(top);
+  std::vector<ContactForce> halved = pile.forces;
+  for (ContactForce& f : halved) {  // far from balance, on a static state
+    f.normal *= 0.5;
+    f.tangential *= 0.5;
+  }
+  RelaxOptions o;
+  o.refine_max_iterations = 30000;
+  const Refinement r = RefineStaticForces(pile, halved, o);
+  EXPECT_FALSE(r.still_moving);
+  EXPECT_GT(r.sweeps, 2 * kRefineChunk) << "not stopped where a moving state is";
+  // The refined forces nearly balance the pile again: one sweep from them leaves a residual
+  // far below one sweep from the halved ones, and no particle moving.
+  auto one_sweep = [&](const std::vector<ContactForce>& forces) {
+    Scene s = pile;
+    s.forces = forces;
+    StaticSolveOptions so;
+    so.solver.max_iterations = 1;
+    so.solver.check_interval = 1;
+    return SolveStatic(s, so);
+  };
+  const StaticSolution from_refined = one_sweep(r.forces), from_halved = one_sweep(halved);
+  EXPECT_LT(from_refined.report.residual, 1e-3 * from_halved.report.residual);
+  EXPECT_LT(from_refined.max_speed, o.rest_speed);
+}
+
 TEST(Relax, UnconvergedStepForcesFailTheCertificateWithoutRefinement) {
   const RelaxReport r = CertifyAfterOneRoughStep(0);
   EXPECT_EQ(r.static_checks, 1);
