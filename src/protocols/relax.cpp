@@ -137,7 +137,7 @@ Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce
     out.forces = ToContactForces(s);
     return out;
   }
-  const double moving = o.rest_speed * VelocityScale(state);
+  const double falling = 10.0 * o.rest_speed * VelocityScale(state);
   double previous = std::numeric_limits<double>::infinity();
   while (out.sweeps < o.refine_max_iterations) {
     const int chunk = std::min(kRefineChunk, o.refine_max_iterations - out.sweeps);
@@ -145,7 +145,7 @@ Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce
     out.sweeps += s.report.iterations;
     start.forces = ToContactForces(s);
     if (s.report.converged() || s.report.iterations < chunk) break;
-    if (s.max_speed > moving && s.max_speed > 0.5 * previous) {
+    if (s.max_speed > falling && s.max_speed > 0.9 * previous) {
       out.still_moving = true;
       break;
     }
