@@ -55,7 +55,6 @@ StaticSolveOptions StaticOptions(const RelaxOptions& o, int max_iterations) {
   return solve;
 }
 
-
 // Step 3b: close the carrying contacts, and any contact that overlaps (also one that the
 // closure itself made overlap: up to three rounds).
 bool CloseCarryingContacts(Scene& state, const EquilibriumSystem& system, const Eigen::VectorXd& forces,

@@ -12,7 +12,8 @@
 //       every free particle (and the cell's pressure) to round-off inside the Coulomb cones.
 //       If there are none and `refine_max_iterations` > 0, the last step's forces are
 //       refined first by a static solve from rest started from them (at most that many
-//       sweeps), and the nearest admissible forces to the refined ones are sought: in large
+//       sweeps, fewer on a state that is not static: RefineStaticForces below), and the
+//       nearest admissible forces to the refined ones are sought: in large
 //       cells the capped steps leave the long-wavelength part of the forces unresolved, so
 //       a static packing's last step forces can be too far from any admissible network;
 //    b. contact closure (contact_closure.hpp): the smallest displacement that brings the
@@ -113,8 +114,8 @@ Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce
 // R_max = 1, density 1, P_ext = 1 or g = 1). Measured on 1600-disk piles and cells of
 // N = 500 and 3000 (docs/performance.md, "Time step of the packing runs"): 3–4× fewer
 // steps than at 5e-3 (piles) and 1.5–3× than at 1e-2 (cells), the same packings within
-// their seed-to-seed scatter;
-// at 0.03 with the loose tolerance below a pile never passes its certificate.
+// their seed-to-seed scatter; at 0.03 with a fixed tolerance of 1e-4 a pile never passes
+// its certificate (hence LooseStepTolerance), and larger steps do not shorten a cell's run.
 inline constexpr double kPackingTimeStep = 0.02;
 
 // The per-step tolerance of loose (NSGS) dynamics steps at time step `dt_over_t0` (Δt/T₀):
