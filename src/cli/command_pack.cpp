@@ -98,18 +98,7 @@ std::string Provenance(const nlohmann::json& p) {
   return line + " (unjam " + p["unjam"].get<std::string>() + ")";
 }
 
-// A progress line every 1000 steps, or sooner once 10 s have passed since the last one (a
-// pile at today's time step takes about 1 500 steps, a minute or more).
-bool ProgressDue(int step) {
-  using Clock = std::chrono::steady_clock;
-  static Clock::time_point last = Clock::now();
-  if (step % 1000 != 0 && Clock::now() - last < std::chrono::seconds(10)) return false;
-  last = Clock::now();
-  return true;
-}
-
 void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
-  if (!ProgressDue(step)) return;
   const Scene& s = sim.scene();
   std::fprintf(stderr, "step %8d  phi %.5f", step, PackingFraction(s));
   if (s.effects.pressure_bath) {
@@ -225,8 +214,15 @@ int RunPack(const PackFlags& f) {
   relax.refine_max_iterations = f.refine_iter;
   relax.static_backend = f.Backend();
   relax.sweep_order = step.solver.sweep_order;
-  relax.progress_interval = f.quiet ? 0 : 10;  // PrintProgress prints every 1000 steps or 10 s
-  relax.progress = PrintProgress;
+  // A progress line every 1000 steps, or sooner once 10 s have passed since the last one (a
+  // pile at today's time step takes about 1 500 steps, a minute or more).
+  relax.progress_interval = f.quiet ? 0 : 10;
+  relax.progress = [last = std::chrono::steady_clock::now()](const Simulation& s, int step, const StepReport& r) mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (step % 1000 != 0 && now - last < std::chrono::seconds(10)) return;
+    last = now;
+    PrintProgress(s, step, r);
+  };
   if (!f.quiet) relax.on_check = PrintCheck;
 
   const std::string checkpoint_path = f.checkpoint.empty() ? f.output + ".checkpoint" : f.checkpoint;

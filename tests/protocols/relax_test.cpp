@@ -46,21 +46,20 @@ TEST(Relax, TimeUnitIsTheMaxRadiusOverTheVelocityScale) {
   EXPECT_LE(MaxRadius(s), 1.0);
 }
 
-// The bundled small pile, and its highest free particle.
-Scene SmallPile(int& top) {
-  Scene pile = ReadPacking(UNJAM_SOURCE_DIR "/problems/gravity-n100-mu0.5.unjam");
-  top = -1;
+Scene SmallPile() { return ReadPacking(UNJAM_SOURCE_DIR "/problems/gravity-n100-mu0.5.unjam"); }
+
+int HighestFreeParticle(const Scene& pile) {
+  int top = -1;
   for (int i = 0; i < static_cast<int>(pile.particles.size()); ++i) {
     if (pile.particles[i].fixed) continue;
     if (top < 0 || pile.particles[i].position.y() > pile.particles[top].position.y()) top = i;
   }
-  return pile;
+  return top;
 }
 
 TEST(Relax, RefinementStopsOnAParticleThatKeepsFalling) {
-  int top = 0;
-  Scene pile = SmallPile(top);
-  pile.particles[top].position.y() += 0.05;  // lifted off its support: it falls in any step
+  Scene pile = SmallPile();
+  pile.particles[HighestFreeParticle(pile)].position.y() += 0.05;  // lifted off its support: it falls in any step
   RelaxOptions o;
   o.refine_max_iterations = 30000;
   const Refinement r = RefineStaticForces(pile, pile.forces, o);
@@ -69,8 +68,7 @@ TEST(Relax, RefinementStopsOnAParticleThatKeepsFalling) {
 }
 
 TEST(Relax, RefinementOfAStaticPileRestoresItsForces) {
-  int top = 0;
-  Scene pile = SmallPile(top);
+  const Scene pile = SmallPile();
   std::vector<ContactForce> halved = pile.forces;
   for (ContactForce& f : halved) {  // far from balance, on a static state
     f.normal *= 0.5;
