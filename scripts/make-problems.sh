@@ -23,31 +23,32 @@ make() {  # make NAME ARGS...
   pack "$@" --refine-iter 0
 }
 # Every bundled packing was made before the time step became 0.02 (and a pile's sweeps per
-# step 1000): their recipes name the earlier defaults, --dt 0.01 for the cells, --dt 0.005
-# (and --step-iter 500 where it was the default) for the piles.
-cell_dt=(--dt 0.01)
-pile_dt=(--dt 0.005)
+# step 1000, its sweep order height): their recipes name the earlier defaults, --dt 0.01
+# for the cells, --dt 0.005 and --order random (and --step-iter 500 where it was the
+# default) for the piles.
+cell_then=(--dt 0.01)
+pile_then=(--dt 0.005 --order random)
 
 # Homogeneous packings at constant external pressure P_ext = 1, fully periodic.
 for mu in 0.5 1 10 0.1 0.01; do
-  make "pressure-n500-mu$mu" --protocol pressure --n 500 --mu "$mu" --seed 1 "${cell_dt[@]}"
+  make "pressure-n500-mu$mu" --protocol pressure --n 500 --mu "$mu" --seed 1 "${cell_then[@]}"
 done
 
 # The frictionless packing is the newest: `--mu 0` picks newton steps solved to 1e-8 (the
 # defaults of --backend auto and --step-tol), with which the certificates pass; loose NSGS
 # steps stall at the isostatic point (docs/performance.md). Made after refinement became
 # the default, it keeps it.
-pack pressure-n500-mu0 --protocol pressure --n 500 --mu 0 --seed 1 "${cell_dt[@]}"
+pack pressure-n500-mu0 --protocol pressure --n 500 --mu 0 --seed 1 "${cell_then[@]}"
 # N = 3000 was made with 2000 NSGS sweeps per dynamics step, like the tall pile below:
 # without refined certificates, 500 left no certificate passing in 15 000 steps (with
 # them the defaults certify it, docs/performance.md).
-make pressure-n3000-mu0.5 --protocol pressure --n 3000 --mu 0.5 --seed 1 --step-iter 2000 "${cell_dt[@]}"
+make pressure-n3000-mu0.5 --protocol pressure --n 3000 --mu 0.5 --seed 1 --step-iter 2000 "${cell_then[@]}"
 
 # Piles settled under gravity g = 1 on a rough bed, periodic in x, width 100.
 # At mu = 1 the dynamics needs 2000 sweeps per step: with 500, unconverged steps leave
 # the tall pile under-supported and it creeps for ever (docs/performance.md).
-make gravity-n1600-mu0.1 --protocol gravity --n 1600 --mu 0.1 --width 100 --seed 1 "${pile_dt[@]}" --step-iter 500
-make gravity-n1600-mu1 --protocol gravity --n 1600 --mu 1 --width 100 --seed 1 --step-iter 2000 "${pile_dt[@]}"
+make gravity-n1600-mu0.1 --protocol gravity --n 1600 --mu 0.1 --width 100 --seed 1 "${pile_then[@]}" --step-iter 500
+make gravity-n1600-mu1 --protocol gravity --n 1600 --mu 1 --width 100 --seed 1 --step-iter 2000 "${pile_then[@]}"
 
 # A small pile: quick to load and solve (examples, smoke tests).
-make gravity-n100-mu0.5 --protocol gravity --n 100 --width 15 --mu 0.5 --seed 1 "${pile_dt[@]}" --step-iter 500
+make gravity-n100-mu0.5 --protocol gravity --n 100 --width 15 --mu 0.5 --seed 1 "${pile_then[@]}" --step-iter 500

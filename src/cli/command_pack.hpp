@@ -23,7 +23,7 @@ struct PackFlags {
   std::optional<double> step_tol;  // default: the backend's (StepTolerance)
   std::optional<int> step_iter;    // default: StepIterations
   std::string backend = "auto";     // auto: newton without friction, nsgs with it
-  std::string order = "random";  // NSGS sweep order of the steps and the static solves
+  std::optional<std::string> order;  // NSGS sweep order of the steps and the static solves; default: Order
   double rest_speed = 1e-2;
   int check_iter = 100000;
   int refine_iter = 30000;
@@ -41,6 +41,7 @@ struct PackFlags {
   std::string Backend() const;          // --backend with auto resolved
   double StepTolerance() const;         // --step-tol, or the resolved backend's default
   int StepIterations() const;           // --step-iter, or the protocol's default
+  std::string Order() const;            // --order, or the protocol's default
 };
 
 int RunPack(const PackFlags& flags);

@@ -19,15 +19,17 @@ assert d["max_overlap"] < 1e-6, d["max_overlap"]
 PY
 
 # The defaults resolved and recorded: Δt = 0.02 T₀ (T₀ = 1 for a pile, 1/√P_ext for a cell),
-# 1000 sweeps per step for a pile and 500 for a cell, and the loose step tolerance 1e-4,
-# tightened as (0.02 T₀/Δt)² above the default step.
+# 1000 sweeps per step for a pile and 500 for a cell, sweeps by height for a pile and in a
+# random order for a cell, and the loose step tolerance 1e-4, tightened as (0.02 T₀/Δt)²
+# above the default step.
 "$unjam" pack --protocol pressure --n 10 --pressure 4 --max-steps 1 --checkpoint-every 0 -o "$work/p4.unjam" --json --quiet >"$work/p4.json" 2>/dev/null
 "$unjam" pack --protocol gravity --n 10 --width 8 --dt 0.04 --max-steps 1 --checkpoint-every 0 -o "$work/dt.unjam" --json --quiet >"$work/dt.json" 2>/dev/null
 /usr/bin/python3 - "$work/a.json" "$work/p4.json" "$work/dt.json" <<'PY' || fail "the defaults of dt, step_iter and step_tol"
 import json, sys
 pile, cell, coarse = (json.load(open(f))["parameters"] for f in sys.argv[1:])
-assert (pile["dt"], pile["step_iter"], pile["step_tol"]) == (0.02, 1000, 1e-4), pile
+assert (pile["dt"], pile["step_iter"], pile["step_tol"], pile["order"]) == (0.02, 1000, 1e-4, "height"), pile
 assert (cell["dt"], cell["step_iter"], cell["step_tol"]) == (0.01, 500, 1e-4), cell
+assert "order" not in cell, cell  # random, the cells' default: absent as in files made before the option
 assert coarse["dt"] == 0.04 and abs(coarse["step_tol"] - 2.5e-5) < 1e-18, coarse
 PY
 
@@ -98,22 +100,29 @@ cmp -s "$work/a.unjam" "$work/r.unjam" || fail "resumed run differs from the uni
 [ "$code" -eq 2 ] || fail "checkpoint with other parameters: exit $code, expected 2"
 grep -q "mu 0.6" "$work/m.err" || fail "the error does not name the differing parameter: $(cat "$work/m.err")"
 
-# --order local and --order height (contacts by height, for piles): other sweep orders, so
-# other packings, but as static, as reproducible, and recorded with their parameters; an
-# unknown order is refused.
-for order in local height; do
+# The sweep order: other orders make other packings, but as static, as reproducible, and
+# recorded with their parameters; `random` (the cells' default, and the piles' before
+# height became theirs) is recorded by its absence, as in files made before the option;
+# `--order height` is a pile's default spelled out; an unknown order is refused.
+for order in local random; do
   for run in 1 2; do
     "$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 --order $order -o "$work/$order$run.unjam" --json --quiet >"$work/$order$run.json" || fail "pack --order $order: exit $?"
   done
   cmp -s "$work/${order}1.unjam" "$work/${order}2.unjam" || fail "--order $order: same seed, different packings"
-  grep -q "^provenance.*--order $order" "$work/${order}1.unjam" || fail "--order $order not in the provenance: $(grep provenance "$work/${order}1.unjam")"
-  /usr/bin/python3 - "$work/${order}1.json" "$order" <<'PY' || fail "pack --order $order --json"
+  /usr/bin/python3 - "$work/${order}1.json" "$order" "$work/${order}1.unjam" <<'PY' || fail "pack --order $order: summary or provenance"
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["jammed"] and d["static_solve"]["converged"] and d["equilibrium_residual"] < 1e-8, d
-assert d["parameters"]["order"] == sys.argv[2], d["parameters"]
+provenance = next(l for l in open(sys.argv[3]) if l.startswith("provenance"))
+if sys.argv[2] == "random":
+    assert "order" not in d["parameters"] and "--order" not in provenance, (d["parameters"], provenance)
+else:
+    assert d["parameters"]["order"] == sys.argv[2] and "--order " + sys.argv[2] in provenance, (d["parameters"], provenance)
 PY
 done
+"$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 --order height -o "$work/height.unjam" --quiet >/dev/null || fail "pack --order height: exit $?"
+cmp -s "$work/a.unjam" "$work/height.unjam" || fail "--order height is not the pile's default"
+cmp -s <(grep -v '^provenance' "$work/a.unjam") <(grep -v '^provenance' "$work/random1.unjam") && fail "--order random made the same pile as height"
 "$unjam" pack --protocol gravity --n 12 --order zigzag -o "$work/z.unjam" 2>"$work/err"; code=$?
 [ "$code" -eq 2 ] || fail "--order zigzag: exit $code, expected 2"
 grep -q -- "--order" "$work/err" || fail "the error does not name --order: $(cat "$work/err")"
