@@ -33,6 +33,8 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; docs/method.md, \"Until static\")")->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--closure-gap", closure_gap, "a certificate lets contacts with gaps up to this carry force, and closes those that do by moving the particles (docs/method.md, \"Until static\")")->check(CLI::Range(1e-9, 1e-3))->capture_default_str();
+  app.add_flag("--certificate-lp", certificate_lp, "when a certificate's projections find no admissible forces, let the linear program decide (exact; it can load contacts the last step left unloaded; about 90 s at N = 4000)");
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
   app.add_option("--checkpoint", checkpoint, "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");
@@ -93,7 +95,9 @@ std::string Provenance(const nlohmann::json& p) {
     if (key == "unjam") continue;
     std::string flag = key;
     std::replace(flag.begin(), flag.end(), '_', '-');
-    line += " --" + flag + " " + (value.is_number_float() ? Number(value.get<double>()) : value.is_string() ? value.get<std::string>() : value.dump());
+    line += " --" + flag;
+    if (value.is_boolean()) continue;  // a flag, written only when set
+    line += " " + (value.is_number_float() ? Number(value.get<double>()) : value.is_string() ? value.get<std::string>() : value.dump());
   }
   return line + " (unjam " + p["unjam"].get<std::string>() + ")";
 }
@@ -170,6 +174,8 @@ nlohmann::json PackFlags::Parameters() const {
   // lack it although they ran without refinement: the bundled ones had `--refine-iter 0`
   // added to their provenance (problems/README.md).
   if (refine_iter != PackFlags{}.refine_iter) p["refine_iter"] = refine_iter;
+  if (closure_gap != PackFlags{}.closure_gap) p["closure_gap"] = closure_gap;  // likewise
+  if (certificate_lp) p["certificate_lp"] = true;                                // likewise
   return p;
 }
 
@@ -217,6 +223,8 @@ int RunPack(const PackFlags& f) {
   relax.max_steps = f.max_steps;
   relax.static_max_iterations = f.check_iter;
   relax.refine_max_iterations = f.refine_iter;
+  relax.closure_gap = f.closure_gap;
+  relax.linear_program = f.certificate_lp;
   relax.static_backend = f.Backend();
   relax.sweep_order = step.solver.sweep_order;
   // A progress line every 1000 steps, or sooner once 10 s have passed since the last one (a

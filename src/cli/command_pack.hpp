@@ -27,6 +27,8 @@ struct PackFlags {
   double rest_speed = 1e-2;
   int check_iter = 100000;
   int refine_iter = 30000;
+  double closure_gap = 1e-6;        // a certificate may load and close contacts up to this gap
+  bool certificate_lp = false;      // a certificate asks the LP when its projections fail
   int max_steps = 1000000;
   std::string output;
   std::string checkpoint;           // default: OUTPUT.checkpoint

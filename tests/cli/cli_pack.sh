@@ -128,6 +128,18 @@ cmp -s <(grep -v '^provenance' "$work/a.unjam") <(grep -v '^provenance' "$work/r
 grep -q -- "--order" "$work/err" || fail "the error does not name --order: $(cat "$work/err")"
 [ ! -e "$work/z.unjam" ] || fail "--order zigzag left a file"
 
+# The certificate's options: a wider closure gap and the LP fallback are recorded (the LP
+# as a bare flag, so that the provenance line stays a command that remakes the packing),
+# and the recorded command remakes the same pile; a closure gap out of range is refused.
+"$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 --closure-gap 1e-5 --certificate-lp -o "$work/lp.unjam" --json --quiet >"$work/lp.json" || fail "pack --certificate-lp: exit $?"
+grep '^provenance' "$work/lp.unjam" | grep -q -- '--certificate-lp --' && grep -q '^provenance.*--closure-gap 1e-05 ' "$work/lp.unjam" || fail "certificate options not in the provenance: $(grep provenance "$work/lp.unjam")"
+read -r -a remake <<<"$(sed -n 's/^provenance unjam \(.*\) (unjam .*/\1/p' "$work/lp.unjam")"
+"$unjam" "${remake[@]}" -o "$work/lp2.unjam" --quiet || fail "the provenance command failed: ${remake[*]}"
+cmp -s "$work/lp.unjam" "$work/lp2.unjam" || fail "the provenance command made another pile"
+expect_code 2 "--closure-gap 0" "$unjam" pack --protocol gravity --n 12 --closure-gap 0 -o "$work/cg.unjam"
+grep -q -- "--closure-gap" "$work/err" || fail "the error does not name --closure-gap: $(cat "$work/err")"
+[ ! -e "$work/cg.unjam" ] || fail "--closure-gap 0 left a file"
+
 # --backend auto: frictionless cells get newton steps at 1e-8 and jam exactly isostatic
 # (N_c = 2(N' - 1) + 1 under a pressure bath); with friction the steps stay NSGS at 1e-4.
 "$unjam" pack --protocol pressure --n 30 --mu 0 --seed 1 -o "$work/f.unjam" --json --quiet >"$work/f.json" || fail "pack --mu 0: exit $?"

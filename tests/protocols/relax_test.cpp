@@ -5,6 +5,7 @@
 #include "unjam/protocols/gravity_pile.hpp"
 #include "unjam/protocols/pressure_packing.hpp"
 #include "unjam/protocols/relax.hpp"
+#include "../test_scenes.hpp"
 
 namespace unjam {
 namespace {
@@ -12,7 +13,7 @@ namespace {
 // One certificate on the bundled static packing after a single dynamics step whose solve was
 // cut to one sweep: the state is static (the step moved nothing measurable), its forces are
 // not.
-RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations) {
+RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations, bool linear_program = false) {
   StepOptions step;
   step.dt = 1e-6;  // particles move by at most ~1e-8: every carrying contact stays within 1e-6
   Simulation sim(ReadPacking(UNJAM_SOURCE_DIR "/problems/pressure-n500-mu0.5.unjam"), step);
@@ -21,6 +22,7 @@ RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations) {
   relax.window = 1;
   relax.max_steps = 1;
   relax.refine_max_iterations = refine_max_iterations;
+  relax.linear_program = linear_program;
   return RelaxToStatic(sim, relax);
 }
 
@@ -110,6 +112,63 @@ TEST(Relax, RefiningTheStepForcesLetsTheStaticPackingPassInFull) {
   EXPECT_TRUE(r.final_check.report.converged());
   EXPECT_LT(r.final_check.equilibrium.residual, 1e-8);
   EXPECT_LT(r.pressure_mismatch, 1e-8);
+}
+
+TEST(Relax, TheLinearProgramFindsTheNetworkTheProjectionMisses) {
+  // The same rough forces as above: too far from every admissible network for the
+  // projection, but the packing is static, and the LP (nearest in L1) finds one.
+  const RelaxReport r = CertifyAfterOneRoughStep(0, true);
+  EXPECT_EQ(r.refined_checks, 0);
+  ASSERT_TRUE(r.jammed) << r.check_message;
+  EXPECT_TRUE(r.final_check.report.converged());
+  EXPECT_LT(r.final_check.equilibrium.residual, 1e-8);
+  EXPECT_LT(r.pressure_mismatch, 1e-8);
+}
+
+// Disk 2 of a V-groove (fixed disks 0 and 1 at x = ∓1.2) moved left until it touches disk 0
+// and stands `gap` off disk 1. One contact cannot hold it: its normal is not vertical, and a
+// tangential force would turn the disk.
+Scene GrooveWithOneSupportApart(double gap) {
+  const double a = 1.2;
+  Scene s = testing::VGroove(a, 0.5);
+  // Touching disk 0 at x = −δ, the distance to disk 1 is √(4 + 4aδ): δ = ((2 + gap)² − 4) / 4a.
+  const double delta = ((2.0 + gap) * (2.0 + gap) - 4.0) / (4.0 * a);
+  s.particles[2].position = Vec2(-delta, std::sqrt(4.0 - (a - delta) * (a - delta)));
+  return s;
+}
+
+// One certificate of that state after a step too short to move anything (1e-6).
+RelaxReport CertifyGroove(double closure_gap, bool linear_program) {
+  StepOptions step;
+  step.dt = 1e-6;
+  Simulation sim(GrooveWithOneSupportApart(5e-5), step);
+  RelaxOptions relax;
+  relax.window = 1;
+  relax.max_steps = 1;
+  relax.closure_gap = closure_gap;
+  relax.linear_program = linear_program;
+  return RelaxToStatic(sim, relax);
+}
+
+TEST(Relax, TheClosureGapDecidesWhichContactsMayCarryForce) {
+  // Within 1e-6 only one contact: no network, and the LP proves it.
+  EXPECT_FALSE(CertifyGroove(1e-6, false).jammed);
+  const RelaxReport near = CertifyGroove(1e-6, true);
+  EXPECT_FALSE(near.jammed);
+  EXPECT_NE(near.check_message.find("not static"), std::string::npos) << near.check_message;
+  // Within 1e-4 the second contact is detected and loaded (the certificate detects contacts
+  // up to the closure gap), the closure moves the disk by about the gap, and the closed
+  // groove is proven static.
+  const RelaxReport wide = CertifyGroove(1e-4, false);
+  ASSERT_TRUE(wide.jammed) << wide.check_message;
+  EXPECT_GT(wide.closure_displacement, 1e-5);
+  EXPECT_LT(wide.closure_displacement, 1e-4);
+  EXPECT_LT(wide.final_check.equilibrium.residual, 1e-8);
+  ASSERT_EQ(wide.final_check.contacts.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_LE(std::abs(wide.final_check.contacts[k].gap), 1e-9);
+    EXPECT_GT(wide.final_check.forces[k].x(), 0.1);  // both carry the weight, π
+  }
 }
 
 }  // namespace

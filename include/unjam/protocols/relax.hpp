@@ -15,7 +15,12 @@
 //       sweeps, fewer on a state that is not static: RefineStaticForces below), and the
 //       nearest admissible forces to the refined ones are sought: in large
 //       cells the capped steps leave the long-wavelength part of the forces unresolved, so
-//       a static packing's last step forces can be too far from any admissible network;
+//       a static packing's last step forces can be too far from any admissible network.
+//       The projection is local (a least-norm correction of the reference and at most 20
+//       active-set rounds) and can miss a network far from the reference; with
+//       `linear_program` the LP then decides whether any admissible network exists on these
+//       contacts (exact, and slow: 45-95 s at N = 4000, so it is the last resort). The
+//       contacts are detected up to `closure_gap`;
 //    b. contact closure (contact_closure.hpp): the smallest displacement that brings the
 //       gaps of the carrying (and of any overlapping) contacts to zero, typically 1e-6;
 //    c. the same certificate again on the closed state, with only contacts closed to
@@ -54,6 +59,7 @@ struct RelaxOptions {
   SweepOrder sweep_order = SweepOrder::kRandom;  // of the static solves (NSGS)
   int static_max_iterations = 100000;
   int refine_max_iterations = 0;         // 3a's refining static solve; 0 = none
+  bool linear_program = false;          // 3a: if the projections fail, the LP decides (slow)
   double equilibrium_tolerance = 1e-8;
   double pressure_tolerance = 1e-8;
   // Called every `progress_interval` steps, 0 = never.
