@@ -115,6 +115,11 @@ void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
   std::fprintf(stderr, "  kinetic %.3e  contacts %d  sweeps %d\n", r.kinetic_energy, r.contacts, r.solve.iterations);
 }
 
+// After this many failed certificates a run prints how a creeping packing can be certified.
+// Runs that were certified needed up to 26 attempts (N = 500, mu = 10 at dt = 0.01; up to
+// 16 at today's step); the creeping N = 4000, mu = 1 cell had failed 20 by step 9 000.
+constexpr int kChecksBeforeHint = 20;
+
 void PrintCheck(const RelaxReport& r) {
   std::fprintf(stderr, "static check %d after step %d: ", r.static_checks, r.steps);
   if (r.jammed) {
@@ -236,7 +241,17 @@ int RunPack(const PackFlags& f) {
     last = now;
     PrintProgress(s, step, r);
   };
-  if (!f.quiet) relax.on_check = PrintCheck;
+  if (!f.quiet) {
+    relax.on_check = [hinted = f.certificate_lp](const RelaxReport& r) mutable {
+      PrintCheck(r);
+      if (hinted || r.jammed || r.static_checks < kChecksBeforeHint) return;
+      hinted = true;
+      std::fprintf(stderr, "hint: %d certificates failed on a calm packing. A marginal one (high friction, "
+                   "large N) can creep for a very long time; --certificate-lp --closure-gap 1e-4 let the "
+                   "certificate load contacts up to 1e-4 apart and ask the linear program "
+                   "(docs/performance.md, \"What keeps N = 4000, mu = 1 moving\")\n", r.static_checks);
+    };
+  }
 
   const std::string checkpoint_path = f.checkpoint.empty() ? f.output + ".checkpoint" : f.checkpoint;
   PackCheckpointer checkpointer(checkpoint_path, parameters, f.checkpoint_every > 0);
