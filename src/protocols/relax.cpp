@@ -127,7 +127,11 @@ bool Certify(Scene& state, const std::vector<ContactForce>& reference, const Rel
   EquilibriumSystemOptions closed;
   closed.closed_gap_tolerance = o.closed_gap_tolerance;
   const EquilibriumSystem system = BuildEquilibriumSystem(state, closed);
-  report.certificate = Admissible(system, ToContactForces(loose, report.certificate.forces));
+  const std::vector<ContactForce> before_closure = ToContactForces(loose, report.certificate.forces);
+  report.certificate = Admissible(system, before_closure);
+  if (report.certificate.status != AdmissibleStatus::kAdmissible && o.linear_program) {
+    report.certificate = Admissible(system, before_closure, AdmissibleMethod::kLinearProgram);
+  }
   if (report.certificate.status != AdmissibleStatus::kAdmissible) {
     report.check_message = "after contact closure: " + report.certificate.message;
     return false;
