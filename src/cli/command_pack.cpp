@@ -34,7 +34,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; docs/method.md, \"Until static\")")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--closure-gap", closure_gap, "a certificate lets contacts with gaps up to this carry force, and closes those that do by moving the particles (docs/method.md, \"Until static\")")->check(CLI::Range(1e-9, 1e-3))->capture_default_str();
-  app.add_flag("--certificate-lp", certificate_lp, "when a certificate's projections find no admissible forces, let the linear program decide (exact: it finds a network that the projection, a local method, misses, or proves that none exists; 45-95 s at N = 4000)");
+  app.add_flag("--certificate-lp", certificate_lp, "when a certificate's projections find no admissible forces, let the linear program decide (exact: it finds a network that the projection, a local method, misses, or proves that none exists; at N = 4000 about 20 s to find none, 100 s to find one)");
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
   app.add_option("--checkpoint", checkpoint, "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");

@@ -38,7 +38,7 @@ double MeanSpeed(const Scene& scene) {
   return mean;
 }
 
-// The projection by default: the LP is slow at N ~ 1e3 (45-95 s at N = 4000), and a later
+// The projection by default: the LP is slow at N ~ 1e3 (20-100 s at N = 4000), and a later
 // attempt is cheaper. The LP (RelaxOptions::linear_program) is the last resort.
 AdmissibleForces Admissible(const EquilibriumSystem& system, const std::vector<ContactForce>& reference,
                             AdmissibleMethod method = AdmissibleMethod::kProjection) {

@@ -19,7 +19,7 @@
 //       The projection is local (a least-norm correction of the reference and at most 20
 //       active-set rounds) and can miss a network far from the reference; with
 //       `linear_program` the LP then decides whether any admissible network exists on these
-//       contacts (exact, and slow: 45-95 s at N = 4000, so it is the last resort). The
+//       contacts (exact, and slow: 20-100 s at N = 4000, so it is the last resort). The
 //       contacts are detected up to `closure_gap`;
 //    b. contact closure (contact_closure.hpp): the smallest displacement that brings the
 //       gaps of the carrying (and of any overlapping) contacts to zero, typically 1e-6;
