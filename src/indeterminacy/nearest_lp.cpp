@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "ensemble_lp.hpp"
@@ -18,9 +19,9 @@ struct Lp {
   std::vector<double> objective;
 };
 
-Lp BuildLp(const EquilibriumSystem& s, const Eigen::VectorXd& reference) {
+Lp BuildLp(const EquilibriumSystem& s, LpTriplets ensemble, const Eigen::VectorXd& reference) {
   const int n = s.NumUnknowns();
-  Lp lp{EnsembleLp(s), std::vector<double>(3 * n, 1.0)};
+  Lp lp{std::move(ensemble), std::vector<double>(3 * n, 1.0)};
   std::fill(lp.objective.begin(), lp.objective.begin() + n, 0.0);
   lp.model.col_lower.resize(3 * n, 0.0);
   lp.model.col_upper.resize(3 * n, kInfinity);
@@ -36,8 +37,7 @@ Lp BuildLp(const EquilibriumSystem& s, const Eigen::VectorXd& reference) {
 // Whether any admissible network exists: the ensemble alone, no objective. On the
 // certificates of an N = 4000 cell it took 16-19 s where the nearest-network LP took 45 s
 // to find none, and most certificates of a creeping packing find none.
-bool ProvenInfeasible(const EquilibriumSystem& s) {
-  const LpTriplets ensemble = EnsembleLp(s);
+bool ProvenInfeasible(const LpTriplets& ensemble) {
   ClpSimplex model;
   LoadIntoClp(ensemble, std::vector<double>(ensemble.col_lower.size(), 0.0), 1e-10, model);
   model.dual();
@@ -54,8 +54,9 @@ LpOutcome Infeasible() {
 }  // namespace
 
 LpOutcome NearestAdmissibleByLinearProgram(const EquilibriumSystem& s, const Eigen::VectorXd& reference) {
-  if (ProvenInfeasible(s)) return Infeasible();
-  const Lp lp = BuildLp(s, reference);
+  LpTriplets ensemble = EnsembleLp(s);
+  if (ProvenInfeasible(ensemble)) return Infeasible();
+  const Lp lp = BuildLp(s, std::move(ensemble), reference);
   ClpSimplex model;
   LoadIntoClp(lp.model, lp.objective, 1e-10, model);
   model.dual();

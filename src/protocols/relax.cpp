@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "unjam/indeterminacy/equilibrium_system.hpp"
 #include "unjam/protocols/contact_closure.hpp"
@@ -45,6 +46,16 @@ AdmissibleForces Admissible(const EquilibriumSystem& system, const std::vector<C
   AdmissibleOptions options;
   options.method = method;
   return NearestAdmissibleForces(system, StoredForcesOf(system, reference), options);
+}
+
+// `found` if the projection found forces; otherwise, when the options allow it, the LP's
+// verdict. The projection is local (a least-norm correction of the reference, then at most
+// 20 active-set rounds) and fails when the reference is far from every network; the LP
+// decides whether one exists (N = 4000, mu = 1: docs/performance.md).
+AdmissibleForces OrLinearProgram(AdmissibleForces found, const EquilibriumSystem& system,
+                                 const std::vector<ContactForce>& reference, const RelaxOptions& o) {
+  if (found.status == AdmissibleStatus::kAdmissible || !o.linear_program) return found;
+  return Admissible(system, reference, AdmissibleMethod::kLinearProgram);
 }
 
 // The static solve of the certificate (3a's refinement, 3d's check), with a sweep limit.
@@ -104,18 +115,15 @@ bool Certify(Scene& state, const std::vector<ContactForce>& reference, const Rel
   const EquilibriumSystem loose = BuildEquilibriumSystem(state, near);
   report.certificate = Admissible(loose, reference);
   std::vector<ContactForce> refined;
+  const std::vector<ContactForce>* best = &reference;  // the reference the LP starts from
   if (report.certificate.status != AdmissibleStatus::kAdmissible && o.refine_max_iterations > 0) {
     ++report.refined_checks;
     refined = RefineStaticForces(state, reference, o).forces;
+    best = &refined;
     report.certificate = Admissible(loose, refined);
     if (report.certificate.status != AdmissibleStatus::kAdmissible) report.certificate.message += " (nor near the refined ones)";
   }
-  if (report.certificate.status != AdmissibleStatus::kAdmissible && o.linear_program) {
-    // The projection is local (a least-norm correction of the reference, then at most 20
-    // active-set rounds), and fails when the reference is far from every network; the LP
-    // decides whether one exists (N = 4000, mu = 1: docs/performance.md).
-    report.certificate = Admissible(loose, refined.empty() ? reference : refined, AdmissibleMethod::kLinearProgram);
-  }
+  report.certificate = OrLinearProgram(std::move(report.certificate), loose, *best, o);
   if (report.certificate.status != AdmissibleStatus::kAdmissible) {
     report.check_message = report.certificate.message;
     return false;
@@ -128,10 +136,7 @@ bool Certify(Scene& state, const std::vector<ContactForce>& reference, const Rel
   closed.closed_gap_tolerance = o.closed_gap_tolerance;
   const EquilibriumSystem system = BuildEquilibriumSystem(state, closed);
   const std::vector<ContactForce> before_closure = ToContactForces(loose, report.certificate.forces);
-  report.certificate = Admissible(system, before_closure);
-  if (report.certificate.status != AdmissibleStatus::kAdmissible && o.linear_program) {
-    report.certificate = Admissible(system, before_closure, AdmissibleMethod::kLinearProgram);
-  }
+  report.certificate = OrLinearProgram(Admissible(system, before_closure), system, before_closure, o);
   if (report.certificate.status != AdmissibleStatus::kAdmissible) {
     report.check_message = "after contact closure: " + report.certificate.message;
     return false;

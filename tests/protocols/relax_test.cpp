@@ -1,5 +1,8 @@
-// Tests for src/protocols/relax.cpp: the certificate's refinement of the last step's forces.
+// Tests for src/protocols/relax.cpp: the certificate (its refinement of the last step's
+// forces, the LP, the closure gap), the protocol's time step and units.
 #include <gtest/gtest.h>
+
+#include <utility>
 
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/gravity_pile.hpp"
@@ -10,20 +13,25 @@
 namespace unjam {
 namespace {
 
-// One certificate on the bundled static packing after a single dynamics step whose solve was
-// cut to one sweep: the state is static (the step moved nothing measurable), its forces are
-// not.
-RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations, bool linear_program = false) {
+// One certificate of `scene` after a single dynamics step of 1e-6, too short to move
+// anything measurable (particles move by at most ~1e-8): the step's forces are the reference.
+RelaxReport CertifyAfterOneTinyStep(Scene scene, RelaxOptions relax) {
   StepOptions step;
-  step.dt = 1e-6;  // particles move by at most ~1e-8: every carrying contact stays within 1e-6
-  Simulation sim(ReadPacking(UNJAM_SOURCE_DIR "/problems/pressure-n500-mu0.5.unjam"), step);
-  RelaxOptions relax;
-  relax.step_max_iterations = 1;
+  step.dt = 1e-6;
+  Simulation sim(std::move(scene), step);
   relax.window = 1;
   relax.max_steps = 1;
+  return RelaxToStatic(sim, relax);
+}
+
+// The same on the bundled static packing, the step's solve cut to one sweep: the state is
+// static, its forces are not.
+RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations, bool linear_program = false) {
+  RelaxOptions relax;
+  relax.step_max_iterations = 1;
   relax.refine_max_iterations = refine_max_iterations;
   relax.linear_program = linear_program;
-  return RelaxToStatic(sim, relax);
+  return CertifyAfterOneTinyStep(ReadPacking(UNJAM_SOURCE_DIR "/problems/pressure-n500-mu0.5.unjam"), relax);
 }
 
 TEST(Relax, LooseStepToleranceHoldsTheStepsGapsAboveTheProtocolTimeStep) {
@@ -137,17 +145,12 @@ Scene GrooveWithOneSupportApart(double gap) {
   return s;
 }
 
-// One certificate of that state after a step too short to move anything (1e-6).
+// One certificate of that state, its second support 5e-5 away.
 RelaxReport CertifyGroove(double closure_gap, bool linear_program) {
-  StepOptions step;
-  step.dt = 1e-6;
-  Simulation sim(GrooveWithOneSupportApart(5e-5), step);
   RelaxOptions relax;
-  relax.window = 1;
-  relax.max_steps = 1;
   relax.closure_gap = closure_gap;
   relax.linear_program = linear_program;
-  return RelaxToStatic(sim, relax);
+  return CertifyAfterOneTinyStep(GrooveWithOneSupportApart(5e-5), relax);
 }
 
 TEST(Relax, TheClosureGapDecidesWhichContactsMayCarryForce) {
