@@ -68,6 +68,8 @@ nlohmann::json ToJson(const SolveReport& r) {
           {"message", r.message}};
 }
 
+std::string ExactNumber(double x) { return std::isfinite(x) ? Format("%.17g", x) : ""; }
+
 nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 
 const char* PeriodicityName(Periodicity p) {

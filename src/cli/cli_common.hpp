@@ -57,6 +57,9 @@ std::string Format(const char* fmt, auto... args) {
 // stdout is discarded. True if it exited 0.
 bool RunPlotScript(const std::string& name, const std::vector<std::string>& args);
 
+// Every digit of a finite number (%.17g); empty for no number (CSV).
+std::string ExactNumber(double x);
+
 // A number, or null where it is not finite (JSON has no NaN or infinity).
 nlohmann::json NumberOrNull(double x);
 std::string EffectsSummary(const Scene& scene);

@@ -16,10 +16,14 @@ namespace unjam::cli {
 
 void BoundsFlags::Register(CLI::App& a) {
   a.add_option("FILE", file, "static packing (.unjam); its stored forces are shown beside the bounds")->required();
-  a.add_option("--contacts", contacts, "all, or K,K,... (the K-th force-carrying contact in the file's force order)")->capture_default_str();
+  CLI::Option* contacts_option = a.add_option("--contacts", contacts, "all, or K,K,... (the K-th force-carrying contact in the file's force order)")->capture_default_str();
+  CLI::Option* top_option = a.add_flag("--top", top, "instead of contacts, bound the critical force of each top shift of a pile (the particles `unjam perturb --top` pushes down): min and max of F_crit over the admissible networks");
+  CLI::Option* bottom_option = a.add_flag("--bottom", bottom, "the same for the bottom shifts (`unjam perturb --bottom`, pushed up)");
+  top_option->excludes(bottom_option)->excludes(contacts_option);
+  bottom_option->excludes(contacts_option);
   a.add_option("--lp", lp, "linear-program backend: clp (simplex, warm starts) or ipopt (interior point)")->capture_default_str();
   a.add_flag("--cold", cold, "solve every LP from scratch (no warm start; for comparison)");
-  a.add_flag("--compare-perturb", compare_perturb, "also open each contact (unjam perturb) and compare F_crit with the LP maximum");
+  a.add_flag("--compare-perturb", compare_perturb, "also open each contact (or make each shift) with unjam perturb and compare F_crit with the LP interval");
   a.add_option("--mode", mode, "cell condition of --compare-perturb: fixed-pressure or fixed-volume")->capture_default_str();
   a.add_option("--gap-tol", gap_tolerance, "contacts with a gap up to this are contacts of the ensemble")->capture_default_str();
   a.add_option("--threads", threads, "threads (0: all cores)")->capture_default_str();
@@ -124,8 +128,7 @@ Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, 
   return out;
 }
 
-// Every digit of a finite number; empty for no number.
-std::string Exact(double x) { return std::isfinite(x) ? Format("%.17g", x) : ""; }
+std::string Exact(double x) { return ExactNumber(x); }
 std::string Number(const Bound& b) { return b.ok() ? Exact(b.value) : ""; }
 
 std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Comparison* cmp) {
@@ -150,6 +153,7 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
 }  // namespace
 
 int RunBounds(const BoundsFlags& f) {
+  if (f.top || f.bottom) return RunShiftBounds(f);
   const auto start = Clock::now();
   const LpBackend lp = LpBackendFromString(f.lp);
   if (!(f.gap_tolerance >= 0.0)) throw std::invalid_argument("--gap-tol must be >= 0");

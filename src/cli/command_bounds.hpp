@@ -1,5 +1,6 @@
 // `unjam bounds`: admissible-force bounds per contact and the degree of force
-// indeterminacy of a static packing (docs/indeterminacy.md, docs/cli.md).
+// indeterminacy of a static packing, or bounds of the critical forces of particle shifts
+// (docs/indeterminacy.md, docs/cli.md).
 #pragma once
 
 #include <string>
@@ -13,6 +14,8 @@ namespace unjam::cli {
 struct BoundsFlags {
   std::string file;
   std::string contacts = "all";
+  bool top = false;     // particle shifts instead of contacts (RunShiftBounds)
+  bool bottom = false;
   std::string lp = "clp";
   bool cold = false;
   bool compare_perturb = false;
@@ -26,5 +29,8 @@ struct BoundsFlags {
 };
 
 int RunBounds(const BoundsFlags& flags);
+
+// `--top` / `--bottom`: bounds of the shifts' critical forces (command_bounds_shifts.cpp).
+int RunShiftBounds(const BoundsFlags& flags);
 
 }  // namespace unjam::cli

@@ -40,4 +40,34 @@ void LoadIntoClp(const LpTriplets& lp, const std::vector<double>& objective, dou
   model.setDualTolerance(tolerance);
 }
 
+std::unique_ptr<ClpSimplex> EnsembleModel(const EquilibriumSystem& s, double tolerance) {
+  auto model = std::make_unique<ClpSimplex>();
+  LoadIntoClp(EnsembleLp(s), std::vector<double>(s.NumUnknowns(), 0.0), tolerance, *model);
+  return model;
+}
+
+Bound Outcome(ClpSimplex& model, double sign, double scale) {
+  Bound b;
+  if (model.isProvenOptimal()) {
+    b.status = BoundStatus::kOptimal;
+    b.value = sign * model.objectiveValue() * scale;
+  } else if (model.isProvenDualInfeasible()) {
+    b.status = BoundStatus::kUnbounded;
+  } else if (model.isProvenPrimalInfeasible()) {
+    b.status = BoundStatus::kInfeasible;
+  }
+  return b;
+}
+
+void Simplex(ClpSimplex& model, bool dual_first, int keep, bool confirm, long long& iterations) {
+  if (dual_first) model.dual(0, keep);
+  else model.primal(0, keep);
+  iterations += model.numberIterations();
+  if (model.isProvenOptimal() || !confirm) return;
+  model.allSlackBasis(true);
+  if (dual_first) model.primal();
+  else model.dual();
+  iterations += model.numberIterations();
+}
+
 }  // namespace unjam::indeterminacy_internal

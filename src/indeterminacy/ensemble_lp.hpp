@@ -5,11 +5,13 @@
 // Internal to src/indeterminacy.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <ClpSimplex.hpp>
 
 #include "unjam/indeterminacy/equilibrium_system.hpp"
+#include "unjam/indeterminacy/force_bounds.hpp"
 
 namespace unjam::indeterminacy_internal {
 
@@ -35,5 +37,22 @@ LpTriplets EnsembleLp(const EquilibriumSystem& system);
 // Loads `lp` with the given objective (one entry per column) into a CLP model, silent,
 // with primal and dual tolerances `tolerance`.
 void LoadIntoClp(const LpTriplets& lp, const std::vector<double>& objective, double tolerance, ClpSimplex& model);
+
+// A CLP model of the ensemble with a zero objective (not yet solved).
+std::unique_ptr<ClpSimplex> EnsembleModel(const EquilibriumSystem& system, double tolerance);
+
+// The bound a finished CLP run proves: its optimum (sign · objective · scale), unbounded or
+// infeasible; kFailed otherwise.
+Bound Outcome(ClpSimplex& model, double sign, double scale);
+
+// Runs one simplex (the dual first, or the primal), from the model's current basis, with
+// CLP's start/finish options `keep`. With `confirm`, an outcome other than optimal is
+// confirmed from the slack basis with the other simplex before it is believed: CLP's dual
+// simplex has reported a feasible pile ensemble infeasible from the slack basis (free
+// tangential columns, degenerate duals). The bounds confirm min and max of a feasible
+// ensemble always; the infeasibility of max_without_friction, found by the dual simplex
+// from an optimal basis after one bound is fixed, is common (hundreds of contacts per
+// packing) and is not.
+void Simplex(ClpSimplex& model, bool dual_first, int keep, bool confirm, long long& iterations);
 
 }  // namespace unjam::indeterminacy_internal

@@ -34,29 +34,12 @@ LpBackend LpBackendFromString(const std::string& name) {
   throw std::invalid_argument("unknown LP backend '" + name + "' (available: clp, ipopt)");
 }
 
+using indeterminacy_internal::Outcome;
+using indeterminacy_internal::Simplex;
+
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-std::unique_ptr<ClpSimplex> BuildModel(const EquilibriumSystem& s, double tolerance) {
-  auto model = std::make_unique<ClpSimplex>();
-  indeterminacy_internal::LoadIntoClp(indeterminacy_internal::EnsembleLp(s), std::vector<double>(s.NumUnknowns(), 0.0),
-                                      tolerance, *model);
-  return model;
-}
-
-Bound Outcome(ClpSimplex& model, double sign, double scale) {
-  Bound b;
-  if (model.isProvenOptimal()) {
-    b.status = BoundStatus::kOptimal;
-    b.value = sign * model.objectiveValue() * scale;
-  } else if (model.isProvenDualInfeasible()) {
-    b.status = BoundStatus::kUnbounded;
-  } else if (model.isProvenPrimalInfeasible()) {
-    b.status = BoundStatus::kInfeasible;
-  }
-  return b;
-}
 
 // One LP: optimise sign·f_n,k with the current bounds; primal simplex from the current basis
 // (warm), or from the slack basis (cold).
@@ -64,23 +47,6 @@ Bound Outcome(ClpSimplex& model, double sign, double scale) {
 // and reuse them; only the objective (or one bound) changes from one LP to the next.
 constexpr int kKeepFactorisation = 7;
 constexpr int kFactorizationFrequency = 100;
-
-// Runs one simplex. With `confirm`, an outcome other than optimal is confirmed from the
-// slack basis with the other simplex before it is believed: CLP's dual simplex has reported
-// a feasible pile ensemble infeasible from the slack basis (free tangential columns,
-// degenerate duals). Min and max of a feasible ensemble are always confirmed; the
-// infeasibility of max_without_friction, found by the dual simplex from an optimal basis
-// after one bound is fixed, is common (hundreds of contacts per packing) and is not.
-void Simplex(ClpSimplex& model, bool dual_first, int keep, bool confirm, long long& iterations) {
-  if (dual_first) model.dual(0, keep);
-  else model.primal(0, keep);
-  iterations += model.numberIterations();
-  if (model.isProvenOptimal() || !confirm) return;
-  model.allSlackBasis(true);
-  if (dual_first) model.primal();
-  else model.dual();
-  iterations += model.numberIterations();
-}
 
 Bound Optimise(ClpSimplex& model, int column, double sign, bool warm, bool bounds_changed, double scale,
                long long& iterations) {
@@ -132,7 +98,7 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
                                 const Eigen::VectorXd& reference, const BoundsOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   BoundsReport report;
-  std::unique_ptr<ClpSimplex> base = BuildModel(system, options.lp_tolerance);
+  std::unique_ptr<ClpSimplex> base = indeterminacy_internal::EnsembleModel(system, options.lp_tolerance);
   Simplex(*base, false, 0, true, report.lp_iterations);  // feasibility; the first basis of every block
   report.feasible = base->isProvenOptimal();
   report.bounds.resize(contacts.size());

@@ -472,6 +472,8 @@ std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base) {
   return PerBin(base, Vec2(0.0, -1.0), [](double y, double best) { return y > best; });
 }
 
+double EffectiveWeightOf(const PerturbationBase& base, int p) { return EffectiveWeight(p, base.contacts, base.forces); }
+
 std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base) {
   return PerBin(base, Vec2(0.0, 1.0), [](double y, double best) { return y < best; });
 }

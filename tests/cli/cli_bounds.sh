@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `unjam bounds`: the frictionless V-groove (one network: zero width, F_crit = LP max), the
-# frictional one (the analytic interval), CSV and JSON, and bad input.
+# frictional one (the analytic interval), the shifts of the small pile (every quasi-static
+# F_crit that perturb finds inside its LP interval), CSV and JSON, and bad input.
 # Usage: cli_bounds.sh UNJAM_BINARY SOURCE_DIR
 source "$(dirname "$0")/harness.bash" "$@"
 
@@ -62,6 +63,34 @@ PY
 
 "$unjam" bounds "$work/g5.unjam" --contacts 1 --json >"$work/one.json" || fail "--contacts 1: exit $?"
 grep -q '"contacts":1' "$work/one.json" || fail "--contacts 1 did not select one contact"
+
+# Particle shifts of the bundled small pile: every quasi-static answer of `perturb` (ok, or
+# nonlinear with its answers at ξ and 10ξ) lies in the shift's LP interval.
+for side in top bottom; do
+  "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --$side --compare-perturb --threads 1 --json \
+    -o "$work/shift-$side.csv" >"$work/shift-$side.json" || fail "bounds --$side: exit $?"
+  /usr/bin/python3 - "$work/shift-$side.json" "$work/shift-$side.csv" "$side" <<'PY' || fail "--$side shifts inside their LP intervals"
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["shifts"] == 10 and d["side"] == sys.argv[3] and d["feasible"], d
+for key in ("bounded", "no_lower_bound", "no_upper_bound", "mean_max", "mean_fy", "seconds"):
+    assert key in d, key
+quasi = d["quasi_static"] + d["nonlinear"]
+assert quasi >= 4 and d["inside_interval"] == quasi and d["outside_interval"] == 0, d
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert len(rows) == 10
+for r in rows:
+    assert r["status_max"] == "optimal", r  # no shift of this pile is blocked
+    if r["inside_interval"] == "1":
+        lo = float(r["min"]) if r["min"] else -math.inf
+        assert lo - 1e-6 <= float(r["f_crit"]) <= float(r["max"]) + 1e-6, r
+    if sys.argv[3] == "top":
+        assert float(r["direction_y"]) == -1 and float(r["min"]) <= float(r["f_static"]) <= float(r["max"]), r
+PY
+done
+expect_code 2 "--top with --contacts" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --contacts 1
+expect_code 2 "--top with --bottom" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --bottom
+expect_code 2 "--top with --lp ipopt" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --lp ipopt
 
 check() {  # expected-exit description args...
   local want="$1" what="$2"; shift 2

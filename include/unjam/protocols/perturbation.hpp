@@ -176,6 +176,9 @@ std::vector<PerturbationTarget> SampleTargets(std::vector<PerturbationTarget> al
 // particle with the highest centre (top, shifted down) or the lowest (bottom, shifted up).
 std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base);
 std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base);
+// F_y of particle p in the static state: the sum of the positive vertical components of the
+// contact forces on it (a shift's reference force).
+double EffectiveWeightOf(const PerturbationBase& base, int p);
 
 // Runs the targets on `threads` threads and reports each result to `on_result` (called
 // from the calling thread, in target order, as soon as a result and all before it exist),
