@@ -199,6 +199,7 @@ ReducedResponse Reduce(const PerturbationBase& base, const PerturbationResult& r
   out.seconds = result.seconds;
   out.status = result.status;
   out.message = result.solve.message;
+  out.backend = result.solve.backend;
   out.rattler = result.target.kind == PerturbationTarget::Kind::kParticleShift &&
                 result.target.direction.y() > 0.0 &&
                 result.f_crit < options.rattler_force * layout.mean_contact_force;

@@ -42,6 +42,9 @@ void PerturbFlags::Register(CLI::App& a) {
   solver.backend_may_be_auto = true;
   solver.Register(a);
   a.get_option("--backend")->description("contact solver backend; auto: lemke on frictional packings (but newton at fixed volume), newton on frictionless ones");
+  a.add_option("--fallback", fallback, "backend that solves a step again when the first leaves it unresolved; auto: ipopt when --backend auto picks lemke, else none")
+      ->check(CLI::IsMember({"auto", "none", "nsgs", "newton", "ipopt", "nlopt", "lemke"}))
+      ->capture_default_str();
   a.get_option("--tol")->description("the solver tolerance itself (default: set by --response-tol)")->default_str("");
   a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");
   a.add_flag("--json", json, "one JSON object on stdout");
@@ -88,6 +91,7 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.response_tolerance = f.response_tol;
   o.check_linearity = f.check_linearity;
   o.check_by_continuation = !f.cold_check;
+  o.fallback = f.fallback;
   if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
   return o;
@@ -117,6 +121,9 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // check (all cold) with --cold-check.
   if (o.check_linearity) header["check_linearity"] = true;
   if (o.check_linearity && o.check_by_continuation) header["check_by_continuation"] = true;
+  // Only when there is one, so that records written before the fallback existed resume
+  // with --fallback none.
+  if (o.fallback != "none") header["fallback"] = o.fallback;
   return header;
 }
 
@@ -149,14 +156,14 @@ std::string TargetName(const PerturbationTarget& t) {
 std::string PerturbationsCsv(const std::map<int, ReducedResponse>& records) {
   std::ostringstream os;
   os << "index,kind,i,j,image_x,image_y,x,y,axis_x,axis_y,f_reference,f_crit,penetration_depth,"
-        "cell_strain,pressure_change,inertia_ratio,inertial_force,fcrit_10xi,linearity_misfit,equilibrium_residual,iterations,residual,status,rattler,seconds\n";
+        "cell_strain,pressure_change,inertia_ratio,inertial_force,fcrit_10xi,linearity_misfit,equilibrium_residual,iterations,residual,status,rattler,seconds,backend\n";
   for (const auto& [k, r] : records) {
     const bool shift = r.target.kind == PerturbationTarget::Kind::kParticleShift;
-    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%.17g,%.6e,%.6e,%d,%.6e,%s,%d,%.4f\n",
+    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%.17g,%.6e,%.6e,%d,%.6e,%s,%d,%.4f,%s\n",
                  k, shift ? "shift" : "opening", r.target.i, r.target.j, r.target.image[0], r.target.image[1],
                  r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y(), r.f_reference, r.f_crit, r.penetration_depth,
                  r.cell_strain, r.pressure_change, r.inertia_ratio, r.inertial_force, r.fcrit_10xi, r.linearity_misfit, r.equilibrium_residual, r.iterations,
-                 r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds);
+                 r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds, r.backend.c_str());
   }
   return os.str();
 }
@@ -244,7 +251,7 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
   const bool shift = !sel.targets.empty() && sel.targets[0].kind == PerturbationTarget::Kind::kParticleShift;
   nlohmann::json j = {
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
-      {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
+      {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend}, {"fallback", o.fallback},
       {"check_linearity", o.check_linearity}, {"check_by_continuation", o.check_linearity && o.check_by_continuation}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
       {"dynamic", s.dynamic}, {"nonlinear", s.nonlinear}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
       {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
@@ -287,6 +294,8 @@ int RunPerturb(const PerturbFlags& f) {
   const auto start = Clock::now();
   PerturbationOptions options = OptionsFrom(f);
   const Scene scene = ReadPacking(f.file);
+  const std::string fallback = PerturbationFallback(options, scene);  // before "auto" is resolved
+  options.fallback = fallback.empty() ? "none" : fallback;
   options.backend = PerturbationBackend(options, scene);
   if (scene.forces.empty()) {
     throw InputError(f.file, 0, "stores no static forces: run `unjam solve " + f.file + " -o FILE` first");

@@ -56,7 +56,7 @@ nlohmann::json ToJson(const ReducedResponse& r) {
           {"fcrit_10xi", NumberOrNull(r.fcrit_10xi)}, {"linearity_misfit", NumberOrNull(r.linearity_misfit)},
           {"equilibrium_residual", r.equilibrium_residual}, {"residual", r.residual},
           {"seconds", r.seconds}, {"iterations", r.iterations}, {"status", r.status},
-          {"message", r.message},
+          {"message", r.message}, {"backend", r.backend},
           {"rattler", r.rattler},
           {"displacement_profile", WithNulls(r.displacement_profile)},
           {"force_profile", WithNulls(r.force_profile)},
@@ -84,6 +84,7 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.iterations = j.at("iterations").get<int>();
     r.status = j.at("status").get<std::string>();
     r.message = j.value("message", std::string());  // absent in records of earlier versions
+    r.backend = j.value("backend", std::string());  // absent in records of earlier versions
     r.rattler = j.at("rattler").get<bool>();
     r.displacement_profile = FromNulls(j.at("displacement_profile"));
     r.force_profile = FromNulls(j.at("force_profile"));

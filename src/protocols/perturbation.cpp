@@ -38,6 +38,12 @@ std::string PerturbationBackend(const PerturbationOptions& options, const Scene&
   return scene.effects.Frictional() && !fixed_volume ? "lemke" : "newton";
 }
 
+std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene) {
+  if (options.fallback == "none") return "";
+  if (options.fallback != "auto") return options.fallback == PerturbationBackend(options, scene) ? "" : options.fallback;
+  return options.backend == "auto" && PerturbationBackend(options, scene) == "lemke" ? "ipopt" : "";
+}
+
 void Validate(const PerturbationOptions& o) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw std::invalid_argument(what);
@@ -51,6 +57,7 @@ void Validate(const PerturbationOptions& o) {
           "response tolerance must be in (0, 1)");
   require(o.max_inertia_ratio > 0.0, "inertia ratio threshold must be positive");
   require(o.solver_tolerance >= 0.0, "solver tolerance must be positive");
+  require(o.fallback == "auto" || o.fallback == "none" || MakeSolver(o.fallback) != nullptr, "unknown fallback backend");
   Validate(o.solver);
 }
 
@@ -321,6 +328,29 @@ std::vector<std::uint8_t> BasisFor(const StaticProblem& posed, const StaticSolut
   return basis;
 }
 
+// What one solution of the step measures, into r (its target, origin and reference set).
+void Measure(const PerturbationBase& base, const PerturbationOptions& options, const StaticSolveOptions& solve,
+             const StaticSolution& s, PerturbationResult& r) {
+  r.solve = s.report;
+  r.f_crit = CriticalForce(r.target, s);
+  r.displacement = s.displacement;
+  r.rotation = s.rotation;
+  r.cell_strain = s.cell_strain;
+  r.force_changes = ForceChanges(base, s);
+  r.penetration_depth = PenetrationDepth(base.scene, r.displacement, r.origin, r.axis);
+  if (PeriodicY(base.scene.cell.periodicity)) r.pressure_change = s.equilibrium.pressure - base.pressure;
+  r.inertia_ratio = InertiaRatio(base, r.displacement, options.dt);
+  r.inertial_force = InertialForce(base, r, options.gap, options.dt);
+  r.equilibrium_residual = s.equilibrium.residual;
+  r.quasi_static = r.inertia_ratio <= options.max_inertia_ratio;
+  // The residual is relative to the solution's own force scale; a solution with runaway
+  // forces (pushing into a rigid column) must not pass by inflating it.
+  const double scale_ratio = base.mean_contact_force > 0.0 ? s.equilibrium.mean_contact_force / base.mean_contact_force : 1.0;
+  const double absolute = r.solve.residual * std::max(1.0, scale_ratio);
+  r.resolved = absolute <= solve.solver.tolerance * ResponseSize(r.displacement, options.gap);
+  r.status = !r.resolved ? "not-converged" : !r.quasi_static ? "dynamic" : "ok";
+}
+
 // The whole measurement at one gap; `continued`: the answer at another gap, whose basis
 // the solve tries first (check_by_continuation; the warm start stays the static forces,
 // from which newton resolves a frictionless response further than from that answer);
@@ -348,27 +378,28 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
     const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
     if (kinematics.decided && !kinematics.admissible) return Blocked(base, kinematics, std::move(r), start);
   }
-  const StaticSolution s = SolveStatic(perturbed, std::move(posed), solve);
+  const std::string fallback = PerturbationFallback(options, base.scene);
+  std::optional<StaticProblem> spare;
+  if (!fallback.empty()) spare = posed;
+  StaticSolution s = SolveStatic(perturbed, std::move(posed), solve);
+  Measure(base, options, solve, s, r);
+  if (!r.resolved && spare) {
+    StaticSolveOptions second = solve;
+    second.backend = fallback;
+    spare->assembled.problem.initial_basis.clear();
+    StaticSolution s2 = SolveStatic(perturbed, std::move(*spare), second);
+    PerturbationResult r2 = r;
+    Measure(base, options, second, s2, r2);
+    const std::string first = r.solve.backend + ": " + r.solve.message;
+    if (r2.resolved) {
+      r2.solve.message = "after " + first + "; " + r2.solve.message;
+      r = std::move(r2);
+      s = std::move(s2);
+    } else {
+      r.solve.message += "; then " + r2.solve.backend + ": " + r2.solve.message;
+    }
+  }
   if (answer != nullptr) *answer = s;
-
-  r.solve = s.report;
-  r.f_crit = CriticalForce(target, s);
-  r.displacement = s.displacement;
-  r.rotation = s.rotation;
-  r.cell_strain = s.cell_strain;
-  r.force_changes = ForceChanges(base, s);
-  r.penetration_depth = PenetrationDepth(base.scene, r.displacement, r.origin, r.axis);
-  if (PeriodicY(base.scene.cell.periodicity)) r.pressure_change = s.equilibrium.pressure - base.pressure;
-  r.inertia_ratio = InertiaRatio(base, r.displacement, options.dt);
-  r.inertial_force = InertialForce(base, r, options.gap, options.dt);
-  r.equilibrium_residual = s.equilibrium.residual;
-  r.quasi_static = r.inertia_ratio <= options.max_inertia_ratio;
-  // The residual is relative to the solution's own force scale; a solution with runaway
-  // forces (pushing into a rigid column) must not pass by inflating it.
-  const double scale_ratio = base.mean_contact_force > 0.0 ? s.equilibrium.mean_contact_force / base.mean_contact_force : 1.0;
-  const double absolute = r.solve.residual * std::max(1.0, scale_ratio);
-  r.resolved = absolute <= solve.solver.tolerance * ResponseSize(r.displacement, options.gap);
-  r.status = !r.resolved ? "not-converged" : !r.quasi_static ? "dynamic" : "ok";
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
 }
@@ -394,6 +425,13 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   // A linear response's inertia grows with the gap, so at 10ξ it is judged against a
   // threshold 10 times as high: the same regime, not a stricter one.
   scaled.max_inertia_ratio *= kLinearityGapFactor;
+  // An answer of the fallback is checked by the fallback: the first backend left the step
+  // at ξ unresolved, and would most likely fail again at 10ξ.
+  const std::string fallback = PerturbationFallback(options, base.scene);
+  if (!fallback.empty() && r.solve.backend == fallback) {
+    scaled.backend = r.solve.backend;
+    scaled.fallback = "none";
+  }
   const PerturbationResult check = PerturbOnce(base, target, scaled, options.check_by_continuation ? &answer : nullptr);
   if (!check.resolved) {  // no verdict: the result cannot be certified
     r.resolved = false;

@@ -76,6 +76,27 @@ PY
 "$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/cold" >/dev/null 2>"$work/cold.err"; code=$?
 [ "$code" -eq 2 ] && grep -q "check_by_continuation" "$work/cold.err" || fail "records of a cold check resumed a continued one: exit $code"
 
+# The fallback: on a frictional packing `auto` picks lemke with ipopt behind it, recorded in
+# the JSON and the header; each row names the backend of its answer; records with a
+# fallback do not resume a run without one. A named backend gets no fallback.
+printf 'unjam-packing 1\ncell 10 10\ngravity 0 -1\nfriction 0.5\nparticles 3\n3.8 1 0 0 0 0 1 1 1\n6.2 1 0 0 0 0 1 1 1\n5 2.6 0 0 0 0 1 1 0\nend\n' >"$work/bare5.unjam"
+"$unjam" solve "$work/bare5.unjam" --tol 1e-14 -o "$work/vg5.unjam" >/dev/null || fail "solve, frictional: exit $?"
+"$unjam" perturb "$work/vg5.unjam" --all --json --threads 1 -o "$work/fb" >"$work/fb.json" 2>/dev/null || fail "perturb, frictional: exit $?"
+"$unjam" perturb "$work/vg5.unjam" --all --json --threads 1 --backend lemke >"$work/named.json" 2>/dev/null || fail "perturb --backend lemke: exit $?"
+/usr/bin/python3 - "$work/fb.json" "$work/fb/perturbations.csv" "$work/fb/records.jsonl" "$work/named.json" <<'PY' || fail "perturb: the fallback is recorded"
+import csv, json, sys
+d = json.load(open(sys.argv[1]))
+assert d["backend"] == "lemke" and d["fallback"] == "ipopt", d
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert len(rows) == 2 and all(r["backend"] == "lemke" for r in rows), rows
+assert json.loads(open(sys.argv[3]).readline())["fallback"] == "ipopt"
+assert json.load(open(sys.argv[4]))["fallback"] == "none"
+PY
+"$unjam" perturb "$work/vg5.unjam" --all --threads 1 --fallback none -o "$work/fb" >/dev/null 2>"$work/fb.err"; code=$?
+[ "$code" -eq 2 ] && grep -q "fallback" "$work/fb.err" || fail "records with a fallback resumed a run without one: exit $code"
+"$unjam" perturb "$work/vg5.unjam" --all --fallback simplex >/dev/null 2>"$work/fb.err"; code=$?
+[ "$code" -eq 2 ] && grep -q -- "--fallback" "$work/fb.err" || fail "--fallback simplex: exit $code, expected 2 naming the option"
+
 # A blocked perturbation: at fixed volume a frictionless packing cannot open a contact
 # (docs/perturbations.md). Reported as blocked with no F_crit; exit 3 only if asked.
 "$unjam" perturb "$src/problems/pressure-n500-mu0.unjam" --contact 0 --mode fixed-volume --json --threads 1 \

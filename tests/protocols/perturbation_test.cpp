@@ -132,6 +132,47 @@ TEST(Perturbation, LiftingADiskOfAColumnLiftsTheDiskAbove) {
   EXPECT_LT((r.displacement[2] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap);
 }
 
+// A step the first backend leaves unresolved (NSGS stopped after 10 sweeps, on an opening
+// of the frictionless packing) is solved again by the fallback, whose answer is the one
+// kept and checked at 10ξ: F_crit = F_cont plus the inertial part, as newton alone gives.
+// The first backend's account stays in the message.
+TEST(Perturbation, TheFallbackSolvesWhatTheFirstBackendLeaves) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
+  PerturbationOptions o;
+  o.backend = "nsgs";
+  o.solver.max_iterations = 10;
+  o.fallback = "none";
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const PerturbationTarget opening = SampleTargets(ContactTargets(base), 1, 3).at(0);
+  const PerturbationResult alone = Perturb(base, opening, o);
+  ASSERT_FALSE(alone.resolved) << "10 NSGS sweeps resolved the step: the test needs a failing first backend";
+  o.fallback = "newton";
+  const PerturbationResult r = Perturb(base, opening, o);
+  ASSERT_EQ(r.status, "ok") << r.solve.message;
+  EXPECT_EQ(r.solve.backend, "newton");
+  EXPECT_EQ(r.solve.message.rfind("after nsgs: ", 0), 0u) << r.solve.message;
+  EXPECT_NEAR(r.f_crit - r.f_reference, r.inertial_force, 1e-4 * r.inertial_force);
+  EXPECT_NEAR(r.fcrit_10xi, r.f_crit, 1e-3 * base.mean_contact_force);
+}
+
+TEST(Perturbation, TheFallbackIsIpoptOnlyWhereAutoPicksLemke) {
+  const Scene frictional = testing::VGroove(1.2, 0.5), frictionless = testing::VGroove(1.2, 0.0);
+  PerturbationOptions o;  // backend and fallback "auto"
+  EXPECT_EQ(PerturbationFallback(o, frictional), "ipopt");
+  EXPECT_EQ(PerturbationFallback(o, frictionless), "");
+  o.backend = "lemke";  // a named backend is not second-guessed
+  EXPECT_EQ(PerturbationFallback(o, frictional), "");
+  o.fallback = "newton";
+  EXPECT_EQ(PerturbationFallback(o, frictional), "newton");
+  o.fallback = "lemke";  // the same backend again is no fallback
+  EXPECT_EQ(PerturbationFallback(o, frictional), "");
+  o.fallback = "none";
+  o.backend = "auto";
+  EXPECT_EQ(PerturbationFallback(o, frictional), "");
+  o.fallback = "simplex";
+  EXPECT_THROW(Validate(o), std::invalid_argument);
+}
+
 TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
   const Scene scene = Column();
   PerturbationOptions o;

@@ -60,6 +60,7 @@ struct ReducedResponse {
   int iterations = 0;
   std::string status;                   // "ok", "not-converged", "dynamic", "nonlinear", "blocked"
   std::string message;                  // the solver's account of its run (why it stopped)
+  std::string backend;                  // the backend whose answer this is (the fallback's, after one)
   bool rattler = false;                 // upward shift that needed no force
   bool Used() const { return status == "ok" && !rattler; }
   std::vector<double> displacement_profile;  // mean |d|/ξ per radial bin (NaN: empty bin)

@@ -46,6 +46,11 @@ struct PerturbationOptions {
   // frictionless packings, leaves δ biased by 2–4 %; on frictional ones newton stalls near
   // 1e-11 and Lemke's pivoting resolves them (docs/backends.md).
   std::string backend = "auto";
+  // When the backend leaves a step unresolved, it is solved once more by this one
+  // (PerturbationFallback): "auto" (ipopt where `backend` is "auto" and resolves to lemke),
+  // "none", or a backend name. On the μ = 10 packing lemke's paths end on rays on openings
+  // that ipopt's De Saxcé fixed point resolves (docs/perturbations.md, "Fallback").
+  std::string fallback = "auto";
   SolverOptions solver;                 // its tolerance is replaced, see SolverToleranceFor
   // Wanted accuracy of the displacements, as a fraction of ξ (see SolverToleranceFor).
   double response_tolerance = 1e-2;
@@ -75,6 +80,10 @@ double DetectionMargin(const PerturbationOptions& options);
 // frictionless ones (exact too, and 20× faster) and at fixed volume (where Lemke picks the
 // unloaded solution of a stress level that the frozen cell leaves free).
 std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene);
+// The backend of the second solve of an unresolved step, or "" for none: options.fallback
+// resolved ("auto": ipopt when options.backend is "auto" and PerturbationBackend picks lemke;
+// a backend the user names is not second-guessed).
+std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene);
 
 // One perturbation's target: a contact (by key) or a particle and a shift direction.
 struct PerturbationTarget {
