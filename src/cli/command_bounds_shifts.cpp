@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "command_bounds.hpp"
+#include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/indeterminacy/shift_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
@@ -85,12 +86,16 @@ std::string Csv(const Scene& scene, const ShiftBoundsReport& r, const std::vecto
 struct Means {
   double f_y = 0.0, f_static = 0.0, min = 0.0, max = 0.0;  // over the bounded shifts
   int bounded = 0, no_lower_bound = 0, no_upper_bound = 0, failed = 0;
+  // Shifts that no admissible network resists by `perturb`'s rattler threshold (a bottom
+  // grain nothing rests on): rattlers whatever member of the step a solver picks.
+  int need_no_force = 0;
 };
 
-Means Summarise(const ShiftBoundsReport& r, const std::vector<double>& f_y) {
+Means Summarise(const ShiftBoundsReport& r, const std::vector<double>& f_y, double rattler_force) {
   Means m;
   for (std::size_t a = 0; a < r.bounds.size(); ++a) {
     const ShiftBounds& b = r.bounds[a];
+    m.need_no_force += b.max.ok() && b.max.value < rattler_force;
     m.no_lower_bound += b.min.status == BoundStatus::kUnbounded;
     m.no_upper_bound += b.max.status == BoundStatus::kUnbounded;
     if (!Decided(b.min) || !Decided(b.max)) ++m.failed;
@@ -140,11 +145,11 @@ int RunShiftBounds(const BoundsFlags& f) {
   if (f.compare_perturb && report.feasible) cmp = CompareShifts(base, targets, report, f_y, threads);
   if (!f.output.empty()) WriteFileAtomically(f.output, Csv(scene, report, f_y, cmp ? &*cmp : nullptr));
 
-  const Means m = Summarise(report, f_y);
+  const Means m = Summarise(report, f_y, EnsembleOptions{}.rattler_force * base.mean_contact_force);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   nlohmann::json out = {{"file", f.file}, {"shifts", shifts.size()}, {"side", f.top ? "top" : "bottom"},
                         {"feasible", report.feasible}, {"message", report.message},
-                        {"bounded", m.bounded}, {"no_lower_bound", m.no_lower_bound}, {"no_upper_bound", m.no_upper_bound}, {"failed", m.failed},
+                        {"bounded", m.bounded}, {"no_lower_bound", m.no_lower_bound}, {"no_upper_bound", m.no_upper_bound}, {"failed", m.failed}, {"need_no_force", m.need_no_force},
                         {"mean_fy", MeanOrNull(m, m.f_y)}, {"mean_fstatic", MeanOrNull(m, m.f_static)},
                         {"mean_min", MeanOrNull(m, m.min)}, {"mean_max", MeanOrNull(m, m.max)},
                         {"lp", "clp"}, {"warm_start", !f.cold}, {"lp_iterations", report.lp_iterations},
@@ -165,6 +170,7 @@ int RunShiftBounds(const BoundsFlags& f) {
     std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
     std::printf("bounded            %d of %zu (no upper bound, a network resists any push: %d; no lower bound: %d; failed: %d)\n",
                 m.bounded, shifts.size(), m.no_upper_bound, m.no_lower_bound, m.failed);
+    std::printf("need no force      %d (max below perturb's rattler threshold: rattlers whatever the solver)\n", m.need_no_force);
     if (m.bounded > 0) {
       std::printf("means              F_y %.6g, F_crit of the stored network %.6g, LP min %.6g, LP max %.6g\n", m.f_y, m.f_static, m.min, m.max);
     }
