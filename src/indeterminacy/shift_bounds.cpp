@@ -132,16 +132,22 @@ ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system, const std:
     const int blocks = std::max(1, std::min<int>(options.threads, static_cast<int>(shifts.size())));
     std::vector<long long> iterations(blocks, 0);
     auto run_block = [&](int block) {
+      // Each thread copies the shared model once, as the contact bounds do, and every
+      // shift of its block starts from that private copy: no two threads read one model.
+      const ClpSimplex own(*base);
       for (std::size_t a = shifts.size() * block / blocks; a < shifts.size() * (block + 1) / blocks; ++a) {
         const double kept = report.bounds[a].reference;
-        report.bounds[a] = BoundShift(*base, system, lps[a], shifts[a], options, iterations[block]);
+        report.bounds[a] = BoundShift(own, system, lps[a], shifts[a], options, iterations[block]);
         report.bounds[a].reference = kept;
       }
     };
-    std::vector<std::thread> pool;
-    for (int b = 1; b < blocks; ++b) pool.emplace_back(run_block, b);
-    run_block(0);
-    for (std::thread& t : pool) t.join();
+    if (blocks == 1) {
+      run_block(0);
+    } else {
+      std::vector<std::thread> pool;
+      for (int b = 0; b < blocks; ++b) pool.emplace_back(run_block, b);
+      for (std::thread& t : pool) t.join();
+    }
     for (long long i : iterations) report.lp_iterations += i;
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

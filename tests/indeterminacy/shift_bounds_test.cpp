@@ -65,7 +65,7 @@ TEST(ShiftBounds, LiftingADiskOutOfAGrooveOpensBothSupports) {
 }
 
 // The LPs from the unperturbed ensemble's basis and from the slack basis find the same
-// bounds. Where the shift opens no contact, the stored network is one of its admissible
+// bounds, on one thread and on two. Where the shift opens no contact, the stored network is one of its admissible
 // networks, and its F_crit lies in [min, max] (a bottom shift unloads the bed, which
 // carried the grain: the stored network is then not admissible).
 TEST(ShiftBounds, WarmStartsAgreeWithLpsFromScratchOnThePile) {
@@ -81,7 +81,10 @@ TEST(ShiftBounds, WarmStartsAgreeWithLpsFromScratchOnThePile) {
   cold.warm_start = false;
   const ShiftBoundsReport warm = ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces));
   const ShiftBoundsReport scratch = ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces), cold);
-  ASSERT_TRUE(warm.feasible && scratch.feasible);
+  BoundsOptions two;
+  two.threads = 2;
+  const ShiftBoundsReport threaded = ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces), two);
+  ASSERT_TRUE(warm.feasible && scratch.feasible && threaded.feasible);
   int bounded = 0, opened = 0;
   for (std::size_t a = 0; a < shifts.size(); ++a) {
     const ShiftBounds& w = warm.bounds[a];
@@ -94,6 +97,11 @@ TEST(ShiftBounds, WarmStartsAgreeWithLpsFromScratchOnThePile) {
     if (w.unloaded_contacts == 0 && w.max.ok()) EXPECT_LE(w.reference, w.max.value + 1e-9);
     opened += w.unloaded_contacts > 0;
     bounded += w.min.ok() && w.max.ok();
+    // Every shift starts from a copy of the same model: the thread count changes nothing.
+    EXPECT_EQ(threaded.bounds[a].min.status, w.min.status);
+    EXPECT_EQ(threaded.bounds[a].max.status, w.max.status);
+    EXPECT_EQ(threaded.bounds[a].min.value, w.min.value) << "shift " << a;
+    EXPECT_EQ(threaded.bounds[a].max.value, w.max.value) << "shift " << a;
   }
   EXPECT_GE(bounded, 15);
   EXPECT_GE(opened, 7);  // most bottom grains rest on the bed
