@@ -63,8 +63,6 @@ struct Selection {
 Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
   const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.top + f.bottom;
   if (chosen != 1) throw std::invalid_argument("choose exactly one of --contact, --all, --sample, --top, --bottom");
-  const bool gravity = base.scene.effects.gravity.has_value() && PeriodicX(base.scene.cell.periodicity);
-  if ((f.top || f.bottom) && !gravity) throw std::invalid_argument("--top and --bottom need a gravity packing periodic in x");
   if (f.top) return {TopTargets(base), "top"};
   if (f.bottom) return {BottomTargets(base), "bottom"};
   std::vector<PerturbationTarget> contacts = ContactTargets(base);

@@ -483,6 +483,9 @@ namespace {
 template <class Better>
 std::vector<PerturbationTarget> PerBin(const PerturbationBase& base, Vec2 direction, Better better) {
   const Scene& s = base.scene;
+  if (!s.effects.gravity || !PeriodicX(s.cell.periodicity)) {
+    throw std::invalid_argument("--top and --bottom need a gravity packing periodic in x");
+  }
   const double width = s.cell.size.x();
   const int bins = std::max(1, static_cast<int>(std::lround(width / (2.0 * base.mean_radius))));
   std::vector<int> chosen(bins, -1);

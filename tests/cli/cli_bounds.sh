@@ -90,14 +90,17 @@ PY
 done
 # The disk in the frictional groove: lifted, it leaves both supports, and no network resists
 # (a rattler whatever the solver); pushed down, the supports can resist any push.
-"$unjam" bounds "$work/g5.unjam" --bottom --json >"$work/g5b.json" || fail "bounds --bottom, groove: exit $?"
-"$unjam" bounds "$work/g5.unjam" --top --json >"$work/g5t.json" || fail "bounds --top, groove: exit $?"
+printf 'unjam-packing 1\ncell 10 10\nperiodic x\ngravity 0 -1\nfriction 0.5\nparticles 3\n3.8 1 0 0 0 0 1 1 1\n6.2 1 0 0 0 0 1 1 1\n5 2.6 0 0 0 0 1 1 0\nend\n' >"$work/barep.unjam"
+"$unjam" solve "$work/barep.unjam" --tol 1e-14 -o "$work/gp.unjam" >/dev/null || fail "solve, periodic groove: exit $?"
+"$unjam" bounds "$work/gp.unjam" --bottom --json >"$work/g5b.json" || fail "bounds --bottom, groove: exit $?"
+"$unjam" bounds "$work/gp.unjam" --top --json >"$work/g5t.json" || fail "bounds --top, groove: exit $?"
 /usr/bin/python3 - "$work/g5b.json" "$work/g5t.json" <<'PY' || fail "shift bounds of the groove"
 import json, sys
 b, t = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
 assert b["shifts"] == 1 and b["bounded"] == 1 and b["need_no_force"] == 1 and b["mean_max"] == 0, b
 assert t["shifts"] == 1 and t["no_upper_bound"] == 1 and t["need_no_force"] == 0, t
 PY
+expect_code 2 "--top on a packing without gravity" "$unjam" bounds "$src/problems/pressure-n500-mu0.5.unjam" --top
 expect_code 2 "--top with --contacts" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --contacts 1
 expect_code 2 "--top with --bottom" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --bottom
 expect_code 2 "--top with --lp ipopt" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --lp ipopt

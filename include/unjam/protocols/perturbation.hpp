@@ -181,8 +181,9 @@ ContactProblem PosePerturbationProblem(const PerturbationBase& base, const Pertu
 std::vector<PerturbationTarget> ContactTargets(const PerturbationBase& base);
 std::vector<PerturbationTarget> SampleTargets(std::vector<PerturbationTarget> all, int count,
                                               std::uint64_t seed);
-// Gravity packings: the width is cut into bins of about one mean diameter; per bin the free
-// particle with the highest centre (top, shifted down) or the lowest (bottom, shifted up).
+// Gravity packings periodic in x (std::invalid_argument otherwise): the width is cut into
+// bins of about one mean diameter; per bin the free particle with the highest centre (top,
+// shifted down) or the lowest (bottom, shifted up).
 std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base);
 std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base);
 // F_y of particle p in the static state: the sum of the positive vertical components of the
