@@ -351,6 +351,33 @@ void Measure(const PerturbationBase& base, const PerturbationOptions& options, c
   r.status = !r.resolved ? "not-converged" : !r.quasi_static ? "dynamic" : "ok";
 }
 
+// Solves the posed step with solve.backend and measures the answer into r; where that
+// leaves the step unresolved, solves it once more with the fallback backend (if any) and
+// keeps that answer if it is resolved. The message keeps the first backend's account.
+StaticSolution SolveAndMeasure(const PerturbationBase& base, const Scene& perturbed, StaticProblem posed,
+                               const StaticSolveOptions& solve, const PerturbationOptions& options, PerturbationResult& r) {
+  const std::string fallback = PerturbationFallback(options, base.scene);
+  std::optional<StaticProblem> spare;
+  if (!fallback.empty()) spare = posed;
+  StaticSolution s = SolveStatic(perturbed, std::move(posed), solve);
+  Measure(base, options, solve, s, r);
+  if (r.resolved || !spare) return s;
+  StaticSolveOptions second = solve;
+  second.backend = fallback;
+  spare->assembled.problem.initial_basis.clear();
+  StaticSolution s2 = SolveStatic(perturbed, std::move(*spare), second);
+  PerturbationResult r2 = r;
+  Measure(base, options, second, s2, r2);
+  const std::string first = r.solve.backend + ": " + r.solve.message;
+  if (!r2.resolved) {
+    r.solve.message += "; then " + r2.solve.backend + ": " + r2.solve.message;
+    return s;
+  }
+  r2.solve.message = "after " + first + "; " + r2.solve.message;
+  r = std::move(r2);
+  return s2;
+}
+
 // The whole measurement at one gap; `continued`: the answer at another gap, whose basis
 // the solve tries first (check_by_continuation; the warm start stays the static forces,
 // from which newton resolves a frictionless response further than from that answer);
@@ -378,28 +405,8 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
     const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
     if (kinematics.decided && !kinematics.admissible) return Blocked(base, kinematics, std::move(r), start);
   }
-  const std::string fallback = PerturbationFallback(options, base.scene);
-  std::optional<StaticProblem> spare;
-  if (!fallback.empty()) spare = posed;
-  StaticSolution s = SolveStatic(perturbed, std::move(posed), solve);
-  Measure(base, options, solve, s, r);
-  if (!r.resolved && spare) {
-    StaticSolveOptions second = solve;
-    second.backend = fallback;
-    spare->assembled.problem.initial_basis.clear();
-    StaticSolution s2 = SolveStatic(perturbed, std::move(*spare), second);
-    PerturbationResult r2 = r;
-    Measure(base, options, second, s2, r2);
-    const std::string first = r.solve.backend + ": " + r.solve.message;
-    if (r2.resolved) {
-      r2.solve.message = "after " + first + "; " + r2.solve.message;
-      r = std::move(r2);
-      s = std::move(s2);
-    } else {
-      r.solve.message += "; then " + r2.solve.backend + ": " + r2.solve.message;
-    }
-  }
-  if (answer != nullptr) *answer = s;
+  StaticSolution s = SolveAndMeasure(base, perturbed, std::move(posed), solve, options, r);
+  if (answer != nullptr) *answer = std::move(s);
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
 }
