@@ -168,6 +168,43 @@ TEST(Newton, LargeSystemsCarryTheWeightAbove) {
   }
 }
 
+// Nearly frictionless steps (μ ≤ 1e-4) start newton from their frictionless solution
+// (newton.cpp). The frictionless packing with μ = 1e-8 is static with the unique
+// frictionless forces, which meet the frictional law as they are: accepted without a
+// frictional iteration, equal to the stored forces.
+TEST(Newton, NearlyFrictionlessPackingReachesTheFrictionlessForces) {
+  Scene scene = ReadPacking(Bundled("pressure-n500-mu0.unjam"));
+  std::map<std::pair<int, int>, double> stored;
+  for (const ContactForce& f : scene.forces) stored[{f.i, f.j}] += f.normal;
+  scene.forces.clear();
+  scene.effects.friction = 1e-8;
+  StaticSolveOptions o;
+  o.backend = "newton";
+  o.solver.tolerance = 1e-10;
+  const StaticSolution s = SolveStatic(scene, o);
+  ASSERT_TRUE(s.report.converged()) << s.report.message;
+  EXPECT_EQ(s.report.iterations, 0);
+  EXPECT_LT(s.equilibrium.residual, 1e-11);
+  for (const ContactForce& f : ToContactForces(s)) {
+    ASSERT_TRUE(stored.count({f.i, f.j}));
+    EXPECT_NEAR(f.normal, stored.at({f.i, f.j}), 1e-9 * s.equilibrium.mean_contact_force);
+    EXPECT_LE(std::abs(f.tangential), 1e-8 * std::max(f.normal, 0.0));  // round-off normals of 1e-23 below zero occur
+  }
+}
+
+// ... and where the contact slides, the frictionless start misses the law by μ r_n, and the
+// frictional Newton goes on to the exact answer r_t = μ r_n.
+TEST(Newton, NearlyFrictionlessSlidingContactIsExact) {
+  const double mu = 1e-8;
+  SolverOptions o;
+  o.tolerance = 1e-14;
+  const SolveResult r = MakeSolver("newton")->Solve(OneContact(1.0, 3.0, mu), o);
+  ASSERT_TRUE(r.report.converged()) << r.report.message;
+  EXPECT_GE(r.report.iterations, 1);
+  EXPECT_NEAR(r.impulses[0], 0.5, 1e-14);
+  EXPECT_NEAR(r.impulses[1], mu * 0.5, 1e-20);
+}
+
 INSTANTIATE_TEST_SUITE_P(All, Backend, ::testing::ValuesIn(AvailableBackends()),
                          [](const auto& info) { return info.param; });
 
