@@ -39,6 +39,10 @@ done
 # steps stall at the isostatic point (docs/performance.md). Made after refinement became
 # the default, it keeps it.
 pack pressure-n500-mu0 --protocol pressure --n 500 --mu 0 --seed 1 "${cell_then[@]}"
+# A hard case, nearly frictionless (μ = 1e-8), with today's defaults and newton steps,
+# which start from the frictionless solution (docs/backends.md): NSGS steps stall as at
+# μ = 0, and newton steps did not certify it before that start (docs/performance.md).
+pack pressure-n500-mu1e-8 --protocol pressure --n 500 --mu 1e-8 --seed 1 --backend newton
 # N = 3000 was made with 2000 NSGS sweeps per dynamics step, like the tall pile below:
 # without refined certificates, 500 left no certificate passing in 15 000 steps (with
 # them the defaults certify it, docs/performance.md).

@@ -27,7 +27,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--seed", seed, "random seed")->capture_default_str();
   app.add_option("--dt", dt, "time step (default 0.02 T0; T0 = R_max sqrt(rho/P_ext) = 1 at the default pressure, sqrt(R_max/g) = 1 for piles)")->check(CLI::PositiveNumber);
   app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step (default 1e-8 with newton; with the others 1e-4, tightened as (0.02 T0/dt)^2 for a larger --dt)")->check(CLI::PositiveNumber);
-  app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton, ipopt, nlopt; auto: newton if mu = 0, else nsgs)")->capture_default_str();
+  app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton, ipopt, nlopt; auto: newton if mu <= 1e-4, else nsgs)")->capture_default_str();
   app.add_option("--order", order, "NSGS sweep order of the steps and of the certificate's static solves: random, local (random blocks of neighbouring contacts: the same convergence, faster once the contacts outgrow the cache, N >= 4000), or height (contacts by height, swept up and down in turn: cheaper sweeps on piles; docs/performance.md). Default: random for a cell, height for a pile")->check(CLI::IsMember({"random", "local", "height"}));
   app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step (default 500 pressure, 1000 gravity)")->check(CLI::PositiveNumber);
   app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(CLI::PositiveNumber)->capture_default_str();
@@ -186,12 +186,14 @@ nlohmann::json PackFlags::Parameters() const {
 
 // Frictionless packings jam isostatic, where loose steps (NSGS at 1e-4) leave the backbone
 // held up by their own errors and no certificate ever passes; newton steps at 1e-8 certify
-// them (docs/performance.md, "What does work with the current protocol"). With friction
-// newton steps cost far more than NSGS's (15x at N = 500, mu = 1) and do not end the creep,
-// so NSGS stays the default there.
+// them (docs/performance.md, "What does work with the current protocol"), and nearly
+// frictionless ones (mu <= 1e-4) since newton starts their steps from the frictionless
+// solution (N = 500 at mu = 1e-8, 1e-5, 1e-4). With more friction newton steps cost far
+// more than NSGS's (15x at N = 500, mu = 1) and do not end the creep, so NSGS stays the
+// default there.
 std::string PackFlags::Backend() const {
   if (backend != "auto") return backend;
-  return mu == 0.0 ? "newton" : "nsgs";
+  return mu <= kNearlyFrictionless ? "newton" : "nsgs";
 }
 
 // Newton is for tight steps (at 1e-4 it does no better than NSGS); NSGS's steps are capped

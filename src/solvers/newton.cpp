@@ -327,18 +327,16 @@ Iterate WarmUp(const Problem& p, const SolverOptions& o, const Iterate& start, d
 template <class Problem>
 SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const std::string& name);
 
-// Nearly frictionless steps (every μ at most kTinyFriction, a μ = 1e-8 packing): their
+// Nearly frictionless steps (every μ at most kNearlyFrictionless, a μ = 1e-8 packing): their
 // solution is within μ of a frictionless one, while a frictional Newton pays for the
 // stick/slide kinks of every contact (2.5–5× the iterations of μ = 0 per step,
 // docs/performance.md). So the frictionless problem is solved first (half the unknowns, no
 // kinks), and its answer with r_t = 0 starts the frictional one, which accepts it as it is
 // when the frictional residual already meets the tolerance.
-constexpr double kTinyFriction = 1e-4;
-
 bool NearlyFrictionless(const ContactProblem& p) {
   if (!p.frictional || p.contacts.empty()) return false;
   for (const ProblemContact& c : p.contacts) {
-    if (c.mu > kTinyFriction) return false;
+    if (c.mu > kNearlyFrictionless) return false;
   }
   return true;
 }

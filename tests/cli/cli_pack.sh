@@ -154,6 +154,15 @@ p = json.load(open(sys.argv[2]))["parameters"]
 assert "backend" not in p and p["step_tol"] == 1e-4, p
 PY
 grep -q '^provenance.*--backend newton.*--step-tol 1e-08' "$work/f.unjam" || fail "resolved backend not in the provenance: $(grep provenance "$work/f.unjam")"
+# Nearly frictionless cells (mu <= 1e-4) get newton steps too, and jam like frictionless
+# ones: every step starts from its frictionless solution (docs/backends.md).
+"$unjam" pack --protocol pressure --n 30 --mu 1e-8 --seed 1 -o "$work/t.unjam" --json --quiet >"$work/t.json" || fail "pack --mu 1e-8: exit $?"
+/usr/bin/python3 - "$work/t.json" <<'PY' || fail "pack --mu 1e-8 with --backend auto"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["parameters"]["backend"] == "newton" and d["parameters"]["step_tol"] == 1e-8, d["parameters"]
+assert d["jammed"] and d["equilibrium_residual"] < 1e-8, d
+PY
 
 "$unjam" pack --protocol gravity --n 0 -o "$work/c.unjam" 2>"$work/err"; code=$?
 [ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"

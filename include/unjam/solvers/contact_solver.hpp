@@ -20,6 +20,11 @@
 
 namespace unjam {
 
+// Friction coefficients up to this count as nearly frictionless: newton starts such a step
+// from its frictionless solution (newton.cpp), and `unjam pack --backend auto` gives such
+// packings newton steps, as frictionless ones (docs/backends.md, docs/performance.md).
+inline constexpr double kNearlyFrictionless = 1e-4;
+
 // kRelaxedModel: the convex relaxation (SolverOptions::convex_relaxation) was solved to the
 // tolerance, but its impulses do not obey the exact Coulomb law to it (docs/backends.md).
 enum class SolveStatus { kConverged, kIterationLimit, kNumericalFailure, kUnsupported, kRelaxedModel };
