@@ -31,6 +31,14 @@ void BoundsFlags::Register(CLI::App& a) {
   a.add_flag("--json", json, "one JSON object on stdout");
 }
 
+EquilibriumSystemOptions BoundsFlags::SystemOptions() const {
+  if (!(gap_tolerance >= 0.0)) throw std::invalid_argument("--gap-tol must be >= 0");
+  EquilibriumSystemOptions so;
+  so.closed_gap_tolerance = gap_tolerance;
+  so.margin = std::max(so.margin, gap_tolerance);
+  return so;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -128,8 +136,7 @@ Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, 
   return out;
 }
 
-std::string Exact(double x) { return ExactNumber(x); }
-std::string Number(const Bound& b) { return b.ok() ? Exact(b.value) : ""; }
+std::string Number(const Bound& b) { return b.ok() ? ExactNumber(b.value) : ""; }
 
 std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Comparison* cmp) {
   std::ostringstream os;
@@ -139,11 +146,11 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
   for (std::size_t a = 0; a < r.bounds.size(); ++a) {
     const ContactBounds& b = r.bounds[a];
     const Contact& c = s.contacts[b.contact];
-    os << b.contact << ',' << c.i << ',' << c.j << ',' << c.image[0] << ',' << c.image[1] << ',' << Exact(b.reference) << ','
+    os << b.contact << ',' << c.i << ',' << c.j << ',' << c.image[0] << ',' << c.image[1] << ',' << ExactNumber(b.reference) << ','
        << Number(b.min) << ',' << Number(b.max) << ',' << Number(b.max_without_friction) << ','
        << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << ToString(b.max_without_friction.status);
     if (cmp) {
-      os << ',' << Exact(cmp->f_crit[a]) << ',' << cmp->status[a] << ',' << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
+      os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << cmp->status[a] << ',' << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
     }
     os << "\n";
   }
@@ -156,15 +163,12 @@ int RunBounds(const BoundsFlags& f) {
   if (f.top || f.bottom) return RunShiftBounds(f);
   const auto start = Clock::now();
   const LpBackend lp = LpBackendFromString(f.lp);
-  if (!(f.gap_tolerance >= 0.0)) throw std::invalid_argument("--gap-tol must be >= 0");
+  const EquilibriumSystemOptions so = f.SystemOptions();
   CellConditionFromString(f.mode);
   const Scene scene = ReadPacking(f.file);
   if (f.compare_perturb && scene.forces.empty()) {
     throw InputError(f.file, 0, "stores no static forces, which --compare-perturb starts from: run `unjam solve " + f.file + " -o FILE` first");
   }
-  EquilibriumSystemOptions so;
-  so.closed_gap_tolerance = f.gap_tolerance;
-  so.margin = std::max(so.margin, f.gap_tolerance);
   const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
   const std::vector<int> selected = SelectContacts(f.contacts, scene, system);
   const int threads = ThreadsFromOption(f.threads);

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli_common.hpp"
+#include "unjam/indeterminacy/equilibrium_system.hpp"
 
 namespace unjam::cli {
 
@@ -26,6 +27,8 @@ struct BoundsFlags {
   bool json = false;
 
   void Register(CLI::App& app);
+  // The ensemble's contacts: gaps up to --gap-tol (checked: std::invalid_argument).
+  EquilibriumSystemOptions SystemOptions() const;
 };
 
 int RunBounds(const BoundsFlags& flags);

@@ -25,9 +25,7 @@ struct ShiftComparison {
   std::vector<double> f_crit_10xi;   // the answer at 10ξ of the small-gap check
   std::vector<std::string> status;
   std::vector<int> inside;           // 1 / 0: a quasi-static F_crit inside [min, max] or not; −1: no such F_crit
-  int Count(const std::vector<std::string>& list, const std::string& s) const {
-    return static_cast<int>(std::count(list.begin(), list.end(), s));
-  }
+  int WithStatus(const std::string& s) const { return static_cast<int>(std::count(status.begin(), status.end(), s)); }
   int WithInside(int value) const { return static_cast<int>(std::count(inside.begin(), inside.end(), value)); }
 };
 
@@ -119,16 +117,13 @@ nlohmann::json MeanOrNull(const Means& m, double value) { return m.bounded > 0 ?
 int RunShiftBounds(const BoundsFlags& f) {
   const auto start = Clock::now();
   if (LpBackendFromString(f.lp) != LpBackend::kClp) throw std::invalid_argument("--lp: shift bounds (--top, --bottom) use clp only");
-  if (!(f.gap_tolerance >= 0.0)) throw std::invalid_argument("--gap-tol must be >= 0");
+  const EquilibriumSystemOptions so = f.SystemOptions();
   const Scene scene = ReadPacking(f.file);
   if (scene.forces.empty()) {
     throw InputError(f.file, 0, "stores no static forces, from which the shifts are chosen: run `unjam solve " + f.file + " -o FILE` first");
   }
   const PerturbationBase base = PreparePerturbations(scene, PerturbationOptions{});
   const std::vector<PerturbationTarget> targets = f.top ? TopTargets(base) : BottomTargets(base);
-  EquilibriumSystemOptions so;
-  so.closed_gap_tolerance = f.gap_tolerance;
-  so.margin = std::max(so.margin, f.gap_tolerance);
   const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
   std::vector<ShiftTarget> shifts;
   std::vector<double> f_y;
@@ -155,10 +150,10 @@ int RunShiftBounds(const BoundsFlags& f) {
                         {"lp", "clp"}, {"warm_start", !f.cold}, {"lp_iterations", report.lp_iterations},
                         {"lp_seconds", report.seconds}, {"threads", threads}, {"seconds", seconds}};
   if (cmp) {
-    out["quasi_static"] = cmp->Count(cmp->status, "ok");
-    out["nonlinear"] = cmp->Count(cmp->status, "nonlinear");
-    out["dynamic"] = cmp->Count(cmp->status, "dynamic");
-    out["blocked"] = cmp->Count(cmp->status, "blocked");
+    out["quasi_static"] = cmp->WithStatus("ok");
+    out["nonlinear"] = cmp->WithStatus("nonlinear");
+    out["dynamic"] = cmp->WithStatus("dynamic");
+    out["blocked"] = cmp->WithStatus("blocked");
     out["inside_interval"] = cmp->WithInside(1);
     out["outside_interval"] = cmp->WithInside(0);
   }
@@ -176,8 +171,8 @@ int RunShiftBounds(const BoundsFlags& f) {
     }
     if (cmp) {
       std::printf("perturb            %d ok, %d nonlinear (quasi-static: %d inside [LP min, LP max], %d outside), %d dynamic, %d blocked\n",
-                  cmp->Count(cmp->status, "ok"), cmp->Count(cmp->status, "nonlinear"), cmp->WithInside(1), cmp->WithInside(0),
-                  cmp->Count(cmp->status, "dynamic"), cmp->Count(cmp->status, "blocked"));
+                  cmp->WithStatus("ok"), cmp->WithStatus("nonlinear"), cmp->WithInside(1), cmp->WithInside(0),
+                  cmp->WithStatus("dynamic"), cmp->WithStatus("blocked"));
     }
     std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, f.cold ? "cold" : "warm");
   }

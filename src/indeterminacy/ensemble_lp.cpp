@@ -1,6 +1,7 @@
 #include "ensemble_lp.hpp"
 
 #include <limits>
+#include <thread>
 
 #include <CoinPackedMatrix.hpp>
 
@@ -68,6 +69,16 @@ void Simplex(ClpSimplex& model, bool dual_first, int keep, bool confirm, long lo
   if (dual_first) model.primal();
   else model.dual();
   iterations += model.numberIterations();
+}
+
+void RunBlocks(int blocks, const std::function<void(int)>& run_block) {
+  if (blocks == 1) {
+    run_block(0);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int b = 0; b < blocks; ++b) pool.emplace_back(run_block, b);
+  for (std::thread& t : pool) t.join();
 }
 
 }  // namespace unjam::indeterminacy_internal

@@ -6,7 +6,6 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
-#include <thread>
 
 #include <ClpSimplex.hpp>
 #include <SuiteSparseQR.hpp>
@@ -179,13 +178,7 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
       }
     }
   };
-  if (blocks == 1) {
-    run_block(0);
-  } else {
-    std::vector<std::thread> pool;
-    for (int b = 0; b < blocks; ++b) pool.emplace_back(run_block, b);
-    for (std::thread& t : pool) t.join();
-  }
+  indeterminacy_internal::RunBlocks(blocks, run_block);
   for (long long i : iterations) report.lp_iterations += i;
   for (long long i : skipped) report.lps_skipped += i;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -5,7 +5,6 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
-#include <thread>
 #include <utility>
 
 #include <ClpSimplex.hpp>
@@ -89,20 +88,17 @@ Bound Optimise(ClpSimplex& model, const ShiftLp& lp, double sign, bool warm, dou
   return indeterminacy_internal::Outcome(model, sign, scale);
 }
 
-ShiftBounds BoundShift(const ClpSimplex& base, const EquilibriumSystem& s, const ShiftLp& lp, const ShiftTarget& t,
-                       const BoundsOptions& o, long long& iterations) {
+// The min and max of one shift, into b.
+void BoundShift(const ClpSimplex& base, const EquilibriumSystem& s, const ShiftLp& lp, const BoundsOptions& o,
+                ShiftBounds& b, long long& iterations) {
   ClpSimplex model(base);  // the unperturbed ensemble's optimal basis: the warm start
   for (int r : lp.released_rows) model.setRowBounds(r, -kInfinity, kInfinity);
   const int stride = s.UnknownsPerContact();
   for (int k : lp.unloaded_contacts) {
     for (int a = 0; a < stride; ++a) model.setColumnBounds(stride * k + a, 0.0, 0.0);
   }
-  ShiftBounds b;
-  b.target = t;
-  b.unloaded_contacts = static_cast<int>(lp.unloaded_contacts.size());
   b.max = Optimise(model, lp, -1.0, o.warm_start, s.force_scale, iterations);
   b.min = Optimise(model, lp, 1.0, o.warm_start, s.force_scale, iterations);
-  return b;
 }
 
 }  // namespace
@@ -122,6 +118,7 @@ ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system, const std:
     lps.push_back(Describe(system, balancing, shifts[a]));
     report.bounds[a].target = shifts[a];
     report.bounds[a].reference = ReferenceValue(lps[a], reference);
+    report.bounds[a].unloaded_contacts = static_cast<int>(lps[a].unloaded_contacts.size());
   }
   if (!report.feasible) {
     report.message = base->isProvenPrimalInfeasible()
@@ -136,18 +133,10 @@ ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system, const std:
       // shift of its block starts from that private copy: no two threads read one model.
       const ClpSimplex own(*base);
       for (std::size_t a = shifts.size() * block / blocks; a < shifts.size() * (block + 1) / blocks; ++a) {
-        const double kept = report.bounds[a].reference;
-        report.bounds[a] = BoundShift(own, system, lps[a], shifts[a], options, iterations[block]);
-        report.bounds[a].reference = kept;
+        BoundShift(own, system, lps[a], options, report.bounds[a], iterations[block]);
       }
     };
-    if (blocks == 1) {
-      run_block(0);
-    } else {
-      std::vector<std::thread> pool;
-      for (int b = 0; b < blocks; ++b) pool.emplace_back(run_block, b);
-      for (std::thread& t : pool) t.join();
-    }
+    indeterminacy_internal::RunBlocks(blocks, run_block);
     for (long long i : iterations) report.lp_iterations += i;
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
