@@ -74,8 +74,9 @@ bool Bundled(benchmark::State& state, const char* path) {
 // The benchmarks' sweep-order argument: 0 forward, 1 random, 2 local, 3 height.
 constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal, SweepOrder::kHeight};
 
-void TimeSweeps(benchmark::State& state, const ContactProblem& p) {
+void TimeSweeps(benchmark::State& state, const ContactProblem& p, int threads = 1) {
   SolverOptions o;
+  o.threads = threads;
   o.tolerance = 1e-300;  // never reached: time a fixed number of sweeps
   o.max_iterations = 100;
   o.check_interval = 100;
@@ -108,7 +109,19 @@ void BM_NsgsSweepsPile1600(benchmark::State& state) {
   TimeSweeps(state, StoredProblem(kPile, state.range(0) / 100.0));
 }
 
-// Sweeps from zero impulses to residual 10^-range(2) (the limit 10^6 sweeps).
+// Sweeps on range(2) threads (nsgs_domains.hpp): the wall time per contact update.
+void BM_NsgsThreadsJammed3000(benchmark::State& state) {
+  if (!Bundled(state, kJammed)) return;
+  TimeSweeps(state, JammedProblem(state.range(0) / 100.0), static_cast<int>(state.range(2)));
+}
+
+void BM_NsgsThreadsPile1600(benchmark::State& state) {
+  if (!Bundled(state, kPile)) return;
+  TimeSweeps(state, StoredProblem(kPile, state.range(0) / 100.0), static_cast<int>(state.range(2)));
+}
+
+// Sweeps from zero impulses to residual 10^-range(2) (the limit 10^6 sweeps), on range(3)
+// threads.
 void BM_NsgsPileFromRest(benchmark::State& state) {
   if (!Bundled(state, kPile)) return;
   const ContactProblem p = StoredProblem(kPile, state.range(0) / 100.0);
@@ -116,6 +129,7 @@ void BM_NsgsPileFromRest(benchmark::State& state) {
   o.tolerance = std::pow(10.0, -static_cast<double>(state.range(2)));
   o.max_iterations = 1000000;
   o.sweep_order = kOrders[state.range(1)];
+  o.threads = state.range(3);
   auto solver = MakeSolver("nsgs");
   SolveResult r;
   for (auto _ : state) {
@@ -138,7 +152,9 @@ void BM_NsgsSweepsBySize(benchmark::State& state) {
 BENCHMARK(BM_NsgsSweepsJammed3000)->Args({50, 1})->Args({0, 1})->Args({50, 2})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweeps)->Args({0, 1})->Args({50, 1})->Args({0, 0})->Args({50, 0})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweepsPile1600)->Args({10, 1})->Args({10, 3})->Args({10, 0})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NsgsPileFromRest)->Args({10, 1, 4})->Args({10, 3, 4})->Args({10, 0, 4})->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(BM_NsgsPileFromRest)->Args({10, 1, 4, 1})->Args({10, 3, 4, 1})->Args({10, 0, 4, 1})->Args({10, 1, 4, 2})->Args({10, 3, 4, 2})->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(BM_NsgsThreadsJammed3000)->Args({50, 1, 1})->Args({50, 1, 2})->Args({50, 3, 1})->Args({50, 3, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsThreadsPile1600)->Args({10, 3, 1})->Args({10, 3, 2})->Args({10, 1, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweepsBySize)
     ->Args({50, 1, 56})->Args({50, 1, 80})->Args({50, 1, 112})->Args({50, 1, 160})
     ->Args({50, 2, 56})->Args({50, 2, 80})->Args({50, 2, 112})->Args({50, 2, 160})

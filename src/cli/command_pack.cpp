@@ -35,6 +35,7 @@ void PackFlags::Register(CLI::App& app) {
   app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; docs/method.md, \"Until static\")")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--closure-gap", closure_gap, "a certificate lets contacts with gaps up to this carry force, and closes those that do by moving the particles (docs/method.md, \"Until static\")")->check(CLI::Range(1e-9, 1e-3))->capture_default_str();
   app.add_flag("--certificate-lp", certificate_lp, "when a certificate's projections find no admissible forces, let the linear program decide (exact: it finds a network that the projection, a local method, misses, or proves that none exists; at N = 4000 about 20 s to find none, 100 s to find one)");
+  app.add_option("--threads", threads, "NSGS threads of the steps and the certificate's static solves (0: all cores). Each sweeps one domain of the contact graph; the packing is deterministic for a given thread count, and differs between counts (docs/cli.md)")->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--max-steps", max_steps, "give up after this many steps")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
   app.add_option("--checkpoint", checkpoint, "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");
@@ -181,6 +182,7 @@ nlohmann::json PackFlags::Parameters() const {
   if (refine_iter != PackFlags{}.refine_iter) p["refine_iter"] = refine_iter;
   if (closure_gap != PackFlags{}.closure_gap) p["closure_gap"] = closure_gap;  // likewise
   if (certificate_lp) p["certificate_lp"] = true;                                // likewise
+  if (Threads() != 1) p["threads"] = Threads();                                 // likewise
   return p;
 }
 
@@ -213,6 +215,10 @@ int PackFlags::StepIterations() const { return step_iter.value_or(protocol == "g
 // (docs/performance.md, "Piles sweep by height by default"). A cell has no height to sort by.
 std::string PackFlags::Order() const { return order.value_or(protocol == "gravity" ? "height" : "random"); }
 
+// Threads change the order of the sweeps, hence the packing: the count is a parameter of
+// the packing, stored unless it is 1 (as files made before the option were).
+int PackFlags::Threads() const { return ThreadsFromOption(threads); }
+
 int RunPack(const PackFlags& f) {
   const auto start = std::chrono::steady_clock::now();
   const nlohmann::json parameters = f.Parameters();
@@ -220,6 +226,7 @@ int RunPack(const PackFlags& f) {
   step.dt = TimeStep(f);
   step.backend = f.Backend();
   step.solver.sweep_order = SweepOrderFromString(f.Order());
+  step.solver.threads = f.Threads();
   Scene scene = InitialScene(f);
   scene.provenance = Provenance(parameters);
   Simulation sim(scene, step);
@@ -234,6 +241,7 @@ int RunPack(const PackFlags& f) {
   relax.linear_program = f.certificate_lp;
   relax.static_backend = f.Backend();
   relax.sweep_order = step.solver.sweep_order;
+  relax.threads = step.solver.threads;
   // A progress line every 1000 steps, or sooner once 10 s have passed since the last one (a
   // pile at today's time step takes about 1 500 steps, a minute or more).
   relax.progress_interval = f.quiet ? 0 : 10;

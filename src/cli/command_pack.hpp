@@ -29,6 +29,7 @@ struct PackFlags {
   int refine_iter = 30000;
   double closure_gap = 1e-6;        // a certificate may load and close contacts up to this gap
   bool certificate_lp = false;      // a certificate asks the LP when its projections fail
+  int threads = 1;                  // NSGS threads; 0: all cores
   int max_steps = 1000000;
   std::string output;
   std::string checkpoint;           // default: OUTPUT.checkpoint
@@ -44,6 +45,7 @@ struct PackFlags {
   double StepTolerance() const;         // --step-tol, or the resolved backend's default
   int StepIterations() const;           // --step-iter, or the protocol's default
   std::string Order() const;            // --order, or the protocol's default
+  int Threads() const;                  // --threads with 0 resolved to the cores
 };
 
 int RunPack(const PackFlags& flags);

@@ -17,6 +17,7 @@ struct SolveFlags {
   bool forces = false;            // list every contact force (packing) or impulse (.dat)
   std::string output;             // the solved packing, or the impulses of a .dat problem
   std::string export_problem;     // write the contact problem as a Siconos .dat file
+  int threads = 1;                // NSGS threads on a packing; 0: all cores
 
   void Register(CLI::App& app);
 };

@@ -66,6 +66,7 @@ StaticSolveOptions StaticOptions(const RelaxOptions& o, int max_iterations) {
   solve.solver.tolerance = o.static_tolerance;
   solve.solver.max_iterations = max_iterations;
   solve.solver.sweep_order = o.sweep_order;
+  solve.solver.threads = o.threads;
   return solve;
 }
 

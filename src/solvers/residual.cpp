@@ -55,7 +55,7 @@ struct ContactTerms {
   double free_scale = 0.0;  // largest ρ|ũ_n| of the free motion (no impulses)
 };
 
-ResidualBreakdown Summarise(const ContactTerms& t) {
+ResidualBreakdown SummariseTerms(const ContactTerms& t) {
   ResidualBreakdown out;
   const int nc = static_cast<int>(t.errors.size());
   if (nc == 0) return out;
@@ -84,21 +84,45 @@ double ResidualWeight(const DelassusProblem& p, int k) {
   return WeightFromDiagonal(Eigen::Vector2d(p.w.coeff(2 * k, 2 * k), p.w.coeff(2 * k + 1, 2 * k + 1)));
 }
 
-ResidualBreakdown ComputeResidual(const ContactProblem& p, const Eigen::VectorXd& impulses) {
-  const int nc = p.NumContacts();
-  const int stride = p.UnknownsPerContact();
-  const VelocityState v = EndVelocityState(p, impulses);
+ResidualEvaluator::ResidualEvaluator(const ContactProblem& p) : p_(p) {
   const VelocityState v_free = FreeVelocityState(p);
-  ContactTerms terms;
-  terms.errors.resize(nc);
-  for (int k = 0; k < nc; ++k) {
-    const Eigen::Vector2d r(impulses[k * stride], p.frictional ? impulses[k * stride + 1] : 0.0);
-    const double rho = ResidualWeight(p, k);
-    terms.errors[k] = ContactError(LawOf(p.contacts[k]), p.frictional, rho, r, PosedVelocity(p, v, k));
-    terms.sum_rn += std::abs(r[0]);
-    terms.free_scale = std::max(terms.free_scale, rho * std::abs(PosedVelocity(p, v_free, k)[0]));
+  rho_.resize(p.NumContacts());
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    rho_[k] = ResidualWeight(p, k);
+    free_scale_ = std::max(free_scale_, rho_[k] * std::abs(PosedVelocity(p, v_free, k)[0]));
   }
-  return Summarise(terms);
+}
+
+VelocityState ResidualEvaluator::Velocities(const Eigen::VectorXd& impulses) const { return EndVelocityState(p_, impulses); }
+
+void ResidualEvaluator::Errors(const Eigen::VectorXd& impulses, const VelocityState& v, int begin, int end,
+                               std::vector<double>& errors) const {
+  const int stride = p_.UnknownsPerContact();
+  for (int k = begin; k < end; ++k) {
+    const Eigen::Vector2d r(impulses[k * stride], p_.frictional ? impulses[k * stride + 1] : 0.0);
+    errors[k] = ContactError(LawOf(p_.contacts[k]), p_.frictional, rho_[k], r, PosedVelocity(p_, v, k));
+  }
+}
+
+ResidualBreakdown ResidualEvaluator::Summarise(const Eigen::VectorXd& impulses, std::vector<double>& errors) const {
+  ContactTerms terms;
+  terms.errors.swap(errors);
+  const int stride = p_.UnknownsPerContact();
+  for (int k = 0; k < p_.NumContacts(); ++k) terms.sum_rn += std::abs(impulses[k * stride]);
+  terms.free_scale = free_scale_;
+  const ResidualBreakdown out = SummariseTerms(terms);
+  errors.swap(terms.errors);
+  return out;
+}
+
+ResidualBreakdown ResidualEvaluator::operator()(const Eigen::VectorXd& impulses) const {
+  std::vector<double> errors(p_.NumContacts());
+  Errors(impulses, Velocities(impulses), 0, p_.NumContacts(), errors);
+  return Summarise(impulses, errors);
+}
+
+ResidualBreakdown ComputeResidual(const ContactProblem& p, const Eigen::VectorXd& impulses) {
+  return ResidualEvaluator(p)(impulses);
 }
 
 ResidualBreakdown ComputeResidual(const DelassusProblem& p, const Eigen::VectorXd& impulses) {
@@ -114,7 +138,7 @@ ResidualBreakdown ComputeResidual(const DelassusProblem& p, const Eigen::VectorX
     terms.sum_rn += std::abs(r[0]);
     terms.free_scale = std::max(terms.free_scale, rho * std::abs(p.q[2 * k]));
   }
-  return Summarise(terms);
+  return SummariseTerms(terms);
 }
 
 double SiconosError(const DelassusProblem& p, const Eigen::VectorXd& impulses) {

@@ -72,6 +72,7 @@ void Validate(const SolverOptions& o) {
   if (o.max_iterations < 0) Reject("max_iterations", o.max_iterations, "must be >= 0");
   if (!(o.relaxation > 0.0 && o.relaxation < 2.0)) Reject("relaxation", o.relaxation, "must lie in (0, 2)");
   if (o.check_interval < 1) Reject("check_interval", o.check_interval, "must be >= 1");
+  if (o.threads < 1) Reject("threads", o.threads, "must be >= 1");
   if (o.newton_max_iterations < 0) Reject("newton_max_iterations", o.newton_max_iterations, "must be >= 0");
   if (!(o.newton_regularization >= 0.0) || !std::isfinite(o.newton_regularization)) Reject("newton_regularization", o.newton_regularization, "must be a finite number >= 0");
   if (!(o.newton_warmup_tolerance > 0.0) || !std::isfinite(o.newton_warmup_tolerance)) Reject("newton_warmup_tolerance", o.newton_warmup_tolerance, "must be a positive finite number");

@@ -54,22 +54,16 @@ inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<s
 }
 
 // Sweeps until `residual()` meets the tolerance or the sweep limit, checking every
-// `check_interval` sweeps; `sweep(order)` performs one sweep over the contacts in `order`.
-// Fills iterations, residual, contact_updates, status and message of `report`.
-template <class SweepFn, class ResidualFn>
-void RunSweeps(int num_contacts, const SolverOptions& o, SweepFn sweep, ResidualFn residual,
-               SolveReport& report) {
-  std::vector<std::uint32_t> order(num_contacts);
-  std::iota(order.begin(), order.end(), 0u);
-  SplitMix64 rng{o.seed};
+// `check_interval` sweeps; `sweep(index)` performs sweep number `index`, in an order of its
+// own. Fills iterations, residual, contact_updates, status and message of `report`.
+template <class IndexedSweepFn, class ResidualFn>
+void RunIndexedSweeps(int num_contacts, const SolverOptions& o, IndexedSweepFn sweep, ResidualFn residual,
+                      SolveReport& report) {
   double current = residual();
   int sweeps = 0;
   while (current > o.tolerance && sweeps < o.max_iterations) {
     const int batch = std::min(o.check_interval, o.max_iterations - sweeps);
-    for (int b = 0; b < batch; ++b, ++sweeps) {
-      NextOrder(o.sweep_order, sweeps, rng, order);
-      sweep(order);
-    }
+    for (int b = 0; b < batch; ++b, ++sweeps) sweep(sweeps);
     report.contact_updates += static_cast<std::int64_t>(batch) * num_contacts;
     current = residual();
     if (!std::isfinite(current)) break;
@@ -85,6 +79,21 @@ void RunSweeps(int num_contacts, const SolverOptions& o, SweepFn sweep, Residual
     report.status = SolveStatus::kIterationLimit;
     report.message = "iteration limit reached before the tolerance";
   }
+}
+
+// The same with one order over all contacts (o.sweep_order, drawn from o.seed);
+// `sweep(order)` performs one sweep over the contacts in `order`.
+template <class SweepFn, class ResidualFn>
+void RunSweeps(int num_contacts, const SolverOptions& o, SweepFn sweep, ResidualFn residual,
+               SolveReport& report) {
+  std::vector<std::uint32_t> order(num_contacts);
+  std::iota(order.begin(), order.end(), 0u);
+  SplitMix64 rng{o.seed};
+  auto indexed = [&](int index) {
+    NextOrder(o.sweep_order, index, rng, order);
+    sweep(order);
+  };
+  RunIndexedSweeps(num_contacts, o, indexed, residual, report);
 }
 
 }  // namespace unjam::solvers_internal

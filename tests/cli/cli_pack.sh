@@ -128,6 +128,17 @@ cmp -s <(grep -v '^provenance' "$work/a.unjam") <(grep -v '^provenance' "$work/r
 grep -q -- "--order" "$work/err" || fail "the error does not name --order: $(cat "$work/err")"
 [ ! -e "$work/z.unjam" ] || fail "--order zigzag left a file"
 
+# Threads: recorded when not 1 (so that the provenance remakes the packing), one thread
+# recorded by its absence; a negative count is refused, naming the option. (This pile is
+# below the 1 000 contacts from which NSGS splits its sweeps: the threads' own arithmetic
+# is tested in tests/solvers/nsgs_test.cpp.)
+"$unjam" pack --protocol gravity --n 12 --width 8 --mu 0.5 --seed 3 --threads 2 -o "$work/t2.unjam" --quiet >/dev/null || fail "pack --threads 2: exit $?"
+grep -q '^provenance.*--threads 2' "$work/t2.unjam" || fail "--threads 2 not in the provenance: $(grep provenance "$work/t2.unjam")"
+grep -q '^provenance.*--threads' "$work/a.unjam" && fail "one thread recorded: $(grep provenance "$work/a.unjam")"
+cmp -s <(grep -v '^provenance' "$work/a.unjam") <(grep -v '^provenance' "$work/t2.unjam") || fail "--threads 2 changed a pile below 1 000 contacts"
+expect_code 2 "--threads -1" "$unjam" pack --protocol gravity --n 12 --threads -1 -o "$work/tn.unjam"
+grep -q -- "--threads" "$work/err" || fail "the error does not name --threads: $(cat "$work/err")"
+
 # The certificate's options: a wider closure gap and the LP fallback are recorded (the LP
 # as a bare flag, so that the provenance line stays a command that remakes the packing),
 # and the recorded command remakes the same pile; a closure gap out of range is refused.

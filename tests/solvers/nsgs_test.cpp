@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "test_problems.hpp"
 #include "test_scenes.hpp"
+#include "unjam/io/packing_file.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 #include "unjam/solvers/residual.hpp"
 
@@ -163,6 +165,87 @@ TEST(Nsgs, SameSeedSameBits) {
   EXPECT_EQ(a.impulses, b.impulses);
 }
 
+// Threads (nsgs_domains.hpp) split the bodies into domains along the contact graph. Here
+// 55 stacks of 20 disks (1 100 contacts, more than kParallelContacts), whose forces are
+// unique: contact c from the floor carries (20 − c) weights. Every order must return them
+// on two threads, each impulse to its own contact.
+ContactProblem Stacks(int columns, int k, double mu) {
+  Scene s = testing::Stack(k, 0.5, 1.0, mu);
+  s.cell.size.x() = 1.5 * columns;
+  s.particles.clear();
+  for (int col = 0; col < columns; ++col) {
+    for (int i = 0; i < k; ++i) s.particles.push_back(testing::Disk(1.5 * col, 0.5 + i, 0.5));
+  }
+  AssemblyOptions a;
+  a.dt = 1.0;
+  return AssembleProblem(s, DetectContacts(s, 1e-6), a).problem;
+}
+
+TEST(NsgsThreads, ReachTheUniqueForcesOfStacks) {
+  const int columns = 55, k = 20;
+  const ContactProblem p = Stacks(columns, k, 0.3);
+  ASSERT_EQ(p.NumContacts(), columns * k);
+  const double w = std::numbers::pi * 0.25;
+  for (SweepOrder order : {SweepOrder::kHeight, SweepOrder::kRandom, SweepOrder::kLocal}) {
+    SolverOptions o;
+    o.threads = 2;
+    o.sweep_order = order;
+    o.tolerance = 1e-12;
+    o.max_iterations = 1000000;
+    const SolveResult r = MakeSolver("nsgs")->Solve(p, o);
+    ASSERT_TRUE(r.report.converged()) << ToString(order) << " " << r.report.residual;
+    for (int q = 0; q < p.NumContacts(); ++q) {
+      const int c = static_cast<int>(std::lround(p.contacts[q].height));
+      EXPECT_NEAR(r.impulses[2 * q], (k - c) * w, 1e-9 * k * w) << ToString(order) << " contact " << q;
+      EXPECT_NEAR(r.impulses[2 * q + 1], 0.0, 1e-9 * k * w) << ToString(order) << " contact " << q;
+    }
+  }
+}
+
+// The static step of the bundled N = 3000 packing under its pressure bath: every contact
+// moves the cell, the one state that all threads share (each sweeps against its own copy,
+// then the changes are summed). Static forces are not unique there, but the cell's balance
+// is: Σ cell_arm r_n is the bath's load whatever the network, on one thread or two. Two
+// threads give the same bits twice.
+double CellLoad(const ContactProblem& p, const Eigen::VectorXd& impulses) {
+  double load = 0.0;
+  for (int k = 0; k < p.NumContacts(); ++k) load += p.contacts[k].cell_arm * impulses[k * p.UnknownsPerContact()];
+  return load;
+}
+
+TEST(NsgsThreads, KeepTheCellBalanceAndTheirBits) {
+  Scene s = ReadPacking(UNJAM_SOURCE_DIR "/problems/pressure-n3000-mu0.5.unjam");
+  AssemblyOptions a;
+  a.dt = 1.0;
+  a.closed_gap_tolerance = 1e-9;
+  const ContactProblem p = AssembleProblem(s, DetectContacts(s, 1e-6), a).problem;
+  ASSERT_GE(p.NumContacts(), kParallelContacts);
+  ASSERT_TRUE(p.cell.has_value());
+  SolverOptions o;
+  o.tolerance = 1e-5;
+  o.max_iterations = 200000;
+  const SolveResult one = MakeSolver("nsgs")->Solve(p, o);
+  o.threads = 2;
+  const SolveResult two = MakeSolver("nsgs")->Solve(p, o);
+  const SolveResult again = MakeSolver("nsgs")->Solve(p, o);
+  ASSERT_TRUE(one.report.converged()) << one.report.residual;
+  ASSERT_TRUE(two.report.converged()) << two.report.residual;
+  EXPECT_NE(one.impulses, two.impulses);  // another order of updates: another network
+  EXPECT_EQ(two.impulses, again.impulses);
+  const double load = CellLoad(p, one.impulses);
+  ASSERT_GT(load, 0.0);
+  EXPECT_NEAR(CellLoad(p, two.impulses), load, 1e-4 * load);
+}
+
+// Below kParallelContacts a solve stays on one thread: the same bits as threads = 1.
+TEST(NsgsThreads, SmallProblemsStayOnOneThread) {
+  const ContactProblem p = StackProblem(50, 0.5);
+  SolverOptions o;
+  const SolveResult one = MakeSolver("nsgs")->Solve(p, o);
+  o.threads = 2;
+  EXPECT_EQ(MakeSolver("nsgs")->Solve(p, o).impulses, one.impulses);
+}
+
 TEST(Registry, UnknownBackendAndBadOptionsSayWhatIsWrong) {
   try {
     MakeSolver("simplex");
@@ -177,6 +260,14 @@ TEST(Registry, UnknownBackendAndBadOptionsSayWhatIsWrong) {
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("relaxation"), std::string::npos);
+  }
+  o = SolverOptions{};
+  o.threads = 0;
+  try {
+    Validate(o);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("threads"), std::string::npos);
   }
   EXPECT_THROW(SweepOrderFromString("zigzag"), std::invalid_argument);
 }

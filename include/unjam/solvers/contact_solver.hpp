@@ -41,6 +41,7 @@ const char* ToString(SolveStatus status);
 // heights (all 0, or the Delassus form) are swept as kSymmetric.
 enum class SweepOrder { kRandom, kForward, kSymmetric, kLocal, kHeight };
 inline constexpr int kLocalBlock = 64;
+inline constexpr int kParallelContacts = 1000;
 const char* ToString(SweepOrder order);
 SweepOrder SweepOrderFromString(const std::string& name);  // throws std::invalid_argument
 
@@ -61,6 +62,11 @@ struct SolverOptions {
   std::uint64_t seed = 1;        // random sweep order
   // NSGS: the true residual is evaluated every `check_interval` sweeps (it costs a sweep).
   int check_interval = 10;
+  // NSGS on body problems: threads that sweep at once (nsgs_domains.hpp). Each takes one
+  // domain of the contact graph; the contacts between domains are swept after them. The
+  // answer is deterministic for a given thread count, and threads = 1 is plain NSGS.
+  // Problems below kParallelContacts contacts are swept on one thread whatever this says.
+  int threads = 1;
   // Newton: iteration limit (each one a sparse LU factorisation), the smallest proximal
   // regularisation ε of sticking rows relative to the local Delassus diagonal, and the
   // residual to which NSGS warms up before the first Newton step (newton.cpp).

@@ -14,10 +14,13 @@
 // residual for the same impulses (to rounding: W is assembled, not recomputed per body).
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "unjam/problem/contact_problem.hpp"
 #include "unjam/problem/delassus_problem.hpp"
+#include "unjam/problem/kinematics.hpp"
 
 namespace unjam {
 
@@ -35,6 +38,25 @@ double ResidualWeight(const DelassusProblem& problem, int k);
 
 ResidualBreakdown ComputeResidual(const ContactProblem& problem, const Eigen::VectorXd& impulses);
 ResidualBreakdown ComputeResidual(const DelassusProblem& problem, const Eigen::VectorXd& impulses);
+
+// The residual of many impulse vectors of one body problem (an iterative solver's checks):
+// the weights ρ and the free motion's scale are computed once, and the per-contact errors
+// may be split among threads (`Errors`, then `Summarise`). Bit for bit ComputeResidual.
+class ResidualEvaluator {
+ public:
+  explicit ResidualEvaluator(const ContactProblem& problem);  // keeps a reference
+  ResidualBreakdown operator()(const Eigen::VectorXd& impulses) const;
+  // The end velocities of `impulses`, the errors of contacts [begin, end) into `errors`
+  // (sized NumContacts()), and the summary of all of them.
+  VelocityState Velocities(const Eigen::VectorXd& impulses) const;
+  void Errors(const Eigen::VectorXd& impulses, const VelocityState& v, int begin, int end, std::vector<double>& errors) const;
+  ResidualBreakdown Summarise(const Eigen::VectorXd& impulses, std::vector<double>& errors) const;
+
+ private:
+  const ContactProblem& p_;
+  std::vector<double> rho_;
+  double free_scale_ = 0.0;
+};
 
 // Siconos' 2D error (fc2d_compute_error, /work/shared/FORMATS.md): the l2 norm over all
 // contacts of the same natural map with ρ = 1, r − Π_K(r − (u + μ|u_t| e_n)), divided by
