@@ -15,9 +15,11 @@
 # packing-vs-n.csv and packing-vs-n-local.csv were measured at 0.01, the default before
 # 2026-11-25). MAX_STEPS (default unjam's) gives up on a run that creeps. LP=1 adds
 # `--certificate-lp --closure-gap 1e-4` (what certifies the creeping N = 4000, mu = 1 cell)
-# and writes to a file of its own, packing-vs-n...-lp.csv.
+# and writes to a file of its own, packing-vs-n...-lp.csv. THREADS (default 1) runs
+# `unjam pack --threads THREADS` (NSGS on several threads; another packing per count) into
+# packing-vs-n...-tTHREADS.csv.
 # Usage: [STEP_ITER=2000] [REFINE_ITER=N] [ORDER=local] [MUS="0.1"] [DT=0.01] [MAX_STEPS=N]
-#        [LP=1] scripts/bench-packing.sh [BUILD_DIR] [N ...]
+#        [LP=1] [THREADS=2] scripts/bench-packing.sh [BUILD_DIR] [N ...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 unjam="${1:-$root/build}/unjam"
@@ -30,6 +32,8 @@ suffix=""
 [ "$dt" = 0.01 ] || suffix="$suffix-dt$dt"
 certificate=()
 [ "${LP:-0}" = 1 ] && { certificate=(--certificate-lp --closure-gap 1e-4); suffix="$suffix-lp"; }
+threads="${THREADS:-1}"
+[ "$threads" = 1 ] || suffix="$suffix-t$threads"
 out="$root/bench/results/packing-vs-n$suffix.csv"
 mkdir -p "$(dirname "$out")"
 [ -e "$out" ] || echo "n,mu,seconds,steps,static_checks,packing_fraction,coordination,jammed,step_iter,refine_iter" >"$out"
@@ -42,7 +46,7 @@ for n in "${sizes[@]}"; do
     grep -q "^$n,$mu," "$out" && continue
     run="$work/n$n-mu$mu-s$step_iter-r$refine_iter$suffix"
     "$unjam" pack --protocol pressure --n "$n" --mu "$mu" --seed 1 --step-iter "$step_iter" --dt "$dt" \
-      --refine-iter "$refine_iter" --order "$order" --max-steps "${MAX_STEPS:-1000000}" "${certificate[@]}" \
+      --refine-iter "$refine_iter" --order "$order" --max-steps "${MAX_STEPS:-1000000}" "${certificate[@]}" --threads "$threads" \
       -o "$run.unjam" --json --quiet >"$run.json" || true
     /usr/bin/python3 - "$run.json" "$n" "$mu" "$step_iter" "$refine_iter" >>"$out" <<'PY'
 import json, sys

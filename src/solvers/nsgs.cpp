@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <vector>
 
@@ -350,65 +351,95 @@ void SweepList(const std::vector<Row>& rows, ListOrder& list, SweepOrder kind, i
   }
 }
 
-// NSGS on o.threads threads: each sweeps its domain's contacts against its own copy of the
-// cell rate (the one state all contacts share), the copies' changes are summed, then the
-// caller sweeps the contacts between domains. Bodies without degrees of freedom get one
-// dummy slot per thread, so that no two threads write the same memory.
-template <bool kFrictional>
-void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layout& base, SolveResult& result) {
-  const int threads = o.threads;
+// Rows of a domain layout whose bodies without degrees of freedom point at one dummy slot
+// per thread (slot nb + 1 + t; the contacts between domains keep slot nb), so that no two
+// threads write the same memory.
+std::vector<Row> DomainRows(const ContactProblem& p, const Layout& layout, const Domains& domains) {
   const int nb = p.NumBodies();
-  Domains domains;
-  const Layout layout = DomainLayout(p, base, threads, domains);
   std::vector<Row> rows = MakeRows(p, layout);
-  for (int t = 0; t < threads; ++t) {
+  for (std::size_t t = 0; t < domains.inside.size(); ++t) {
     for (std::uint32_t pos : domains.inside[t]) {
-      if (rows[pos].bi == nb) rows[pos].bi = nb + 1 + t;
-      if (rows[pos].bj == nb) rows[pos].bj = nb + 1 + t;
+      if (rows[pos].bi == nb) rows[pos].bi = nb + 1 + static_cast<int>(t);
+      if (rows[pos].bj == nb) rows[pos].bj = nb + 1 + static_cast<int>(t);
     }
   }
-  State state = InitialState(p, layout, threads + 1);
-  std::vector<ListOrder> lists;  // the threads' domains, then the contacts between them
-  for (int t = 0; t < threads; ++t) lists.push_back(MakeListOrder(std::move(domains.inside[t]), o.seed, t));
-  lists.push_back(MakeListOrder(std::move(domains.between), o.seed, threads));
-  int index = 0;
-  double cell_start = 0.0;
-  std::vector<double> cell_change(threads, 0.0);
-  // The residual checks split their per-contact errors among the threads too: done by one
-  // thread, they had taken a quarter of a two-thread solve (N = 3000 cell).
-  const ResidualEvaluator evaluate(p);
-  bool checking = false;
-  Eigen::VectorXd impulses;
-  VelocityState velocities;
-  std::vector<double> errors(p.NumContacts());
-  auto work = [&](int t) {
-    if (checking) {
-      const int nc = p.NumContacts();
-      evaluate.Errors(impulses, velocities, nc * t / threads, nc * (t + 1) / threads, errors);
+  return rows;
+}
+
+// NSGS on o.threads threads (nsgs_domains.hpp). A sweep: each thread sweeps its domain's
+// contacts against its own copy of the cell rate (the one state all contacts share), the
+// copies' changes are summed in thread order, then the caller sweeps the contacts between
+// domains. A residual check splits its per-contact errors among the threads too: on one
+// thread it had taken a quarter of a two-thread solve (the N = 3000 cell).
+template <bool kFrictional>
+class DomainSolve {
+ public:
+  DomainSolve(const ContactProblem& p, const SolverOptions& o, const Layout& base)
+      : p_(p), o_(o), threads_(o.threads), layout_(DomainLayout(p, base, threads_, domains_)),
+        rows_(DomainRows(p, layout_, domains_)), state_(InitialState(p, layout_, threads_ + 1)),
+        evaluate_(p), errors_(p.NumContacts()), cell_change_(threads_, 0.0),
+        team_(threads_, [this](int t) { Work(t); }) {
+    for (int t = 0; t < threads_; ++t) lists_.push_back(MakeListOrder(std::move(domains_.inside[t]), o.seed, t));
+    lists_.push_back(MakeListOrder(std::move(domains_.between), o.seed, threads_));
+  }
+
+  void Sweep(int index) {
+    index_ = index;
+    cell_start_ = state_.cell_rate;
+    team_.Run();
+    for (double change : cell_change_) state_.cell_rate += change;
+    SweepList<kFrictional>(rows_, lists_[threads_], o_.sweep_order, index, o_.relaxation, state_, state_.cell_rate);
+  }
+
+  double Residual() {
+    impulses_ = Impulses();
+    velocities_ = evaluate_.Velocities(impulses_);
+    checking_ = true;
+    team_.Run();
+    checking_ = false;
+    return evaluate_.Summarise(impulses_, errors_).residual;
+  }
+
+  Eigen::VectorXd Impulses() const { return unjam::Impulses(p_, layout_, state_); }
+
+ private:
+  // Thread t's part of the current phase (lists_ is filled before the first phase).
+  void Work(int t) {
+    if (checking_) {
+      const int nc = p_.NumContacts();
+      evaluate_.Errors(impulses_, velocities_, nc * t / threads_, nc * (t + 1) / threads_, errors_);
       return;
     }
-    double cell = cell_start;
-    SweepList<kFrictional>(rows, lists[t], o.sweep_order, index, o.relaxation, state, cell);
-    cell_change[t] = cell - cell_start;
-  };
-  solvers_internal::DomainTeam<decltype(work)> team(threads, work);
-  auto sweep = [&](int i) {
-    index = i;
-    cell_start = state.cell_rate;
-    team.Run();
-    for (double change : cell_change) state.cell_rate += change;
-    SweepList<kFrictional>(rows, lists[threads], o.sweep_order, i, o.relaxation, state, state.cell_rate);
-  };
-  auto residual = [&] {
-    impulses = Impulses(p, layout, state);
-    velocities = evaluate.Velocities(impulses);
-    checking = true;
-    team.Run();
-    checking = false;
-    return evaluate.Summarise(impulses, errors).residual;
-  };
-  solvers_internal::RunIndexedSweeps(p.NumContacts(), o, sweep, residual, result.report);
-  result.impulses = Impulses(p, layout, state);
+    double cell = cell_start_;
+    SweepList<kFrictional>(rows_, lists_[t], o_.sweep_order, index_, o_.relaxation, state_, cell);
+    cell_change_[t] = cell - cell_start_;
+  }
+
+  const ContactProblem& p_;
+  const SolverOptions& o_;
+  const int threads_;
+  Domains domains_;  // moved into lists_ once laid out
+  const Layout layout_;
+  const std::vector<Row> rows_;
+  State state_;
+  std::vector<ListOrder> lists_;  // the threads' domains, then the contacts between them
+  const ResidualEvaluator evaluate_;
+  std::vector<double> errors_;
+  std::vector<double> cell_change_;
+  int index_ = 0;
+  double cell_start_ = 0.0;
+  bool checking_ = false;
+  Eigen::VectorXd impulses_;
+  VelocityState velocities_;
+  solvers_internal::DomainTeam<std::function<void(int)>> team_;  // last: its threads use the rest
+};
+
+template <bool kFrictional>
+void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layout& base, SolveResult& result) {
+  DomainSolve<kFrictional> solve(p, o, base);
+  solvers_internal::RunIndexedSweeps(p.NumContacts(), o, [&](int i) { solve.Sweep(i); }, [&] { return solve.Residual(); },
+                                     result.report);
+  result.impulses = solve.Impulses();
 }
 
 }  // namespace
