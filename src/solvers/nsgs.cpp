@@ -434,6 +434,20 @@ class DomainSolve {
   solvers_internal::DomainTeam<std::function<void(int)>> team_;  // last: its threads use the rest
 };
 
+// NSGS on one thread: one order over all contacts (sweeps.hpp's RunSweeps).
+void SolveOnOneThread(const ContactProblem& p, const SolverOptions& o, const Layout& layout, SolveResult& result) {
+  const std::vector<Row> rows = MakeRows(p, layout);
+  State state = InitialState(p, layout);
+  const ResidualEvaluator evaluate(p);
+  auto sweep = [&](const std::vector<std::uint32_t>& order) {
+    if (p.frictional) Sweep<true>(rows, order, o.relaxation, state);
+    else Sweep<false>(rows, order, o.relaxation, state);
+  };
+  auto residual = [&] { return evaluate(Impulses(p, layout, state)).residual; };
+  solvers_internal::RunSweeps(p.NumContacts(), o, sweep, residual, result.report);
+  result.impulses = Impulses(p, layout, state);
+}
+
 template <bool kFrictional>
 void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layout& base, SolveResult& result) {
   DomainSolve<kFrictional> solve(p, o, base);
@@ -450,22 +464,9 @@ SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& opti
   const Layout layout = MakeLayout(p, options.sweep_order);
   SolveResult result;
   result.report.backend = Name();
-  if (options.threads > 1 && p.NumContacts() >= kParallelContacts) {
-    if (p.frictional) SolveInDomains<true>(p, options, layout, result);
-    else SolveInDomains<false>(p, options, layout, result);
-    result.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return result;
-  }
-  const std::vector<Row> rows = MakeRows(p, layout);
-  State state = InitialState(p, layout);
-  const ResidualEvaluator evaluate(p);
-  auto sweep = [&](const std::vector<std::uint32_t>& order) {
-    if (p.frictional) Sweep<true>(rows, order, options.relaxation, state);
-    else Sweep<false>(rows, order, options.relaxation, state);
-  };
-  auto residual = [&] { return evaluate(Impulses(p, layout, state)).residual; };
-  solvers_internal::RunSweeps(p.NumContacts(), options, sweep, residual, result.report);
-  result.impulses = Impulses(p, layout, state);
+  if (options.threads < 2 || p.NumContacts() < kParallelContacts) SolveOnOneThread(p, options, layout, result);
+  else if (p.frictional) SolveInDomains<true>(p, options, layout, result);
+  else SolveInDomains<false>(p, options, layout, result);
   result.report.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -48,26 +48,21 @@ double ContactError(const ContactLaw& law, bool frictional, double rho, const Ei
   return (r - ProjectOnCone(r - rho * shifted, law.mu)).norm();
 }
 
-// The per-contact inputs of the residual, whichever form they come from.
-struct ContactTerms {
-  std::vector<double> errors;
-  double sum_rn = 0.0;
-  double free_scale = 0.0;  // largest ρ|ũ_n| of the free motion (no impulses)
-};
-
-ResidualBreakdown SummariseTerms(const ContactTerms& t) {
+// The residual from its per-contact inputs, whichever form they come from: the errors e_k,
+// Σ|r_n|, and the largest ρ|ũ_n| of the free motion (no impulses).
+ResidualBreakdown Summary(const std::vector<double>& errors, double sum_rn, double free_scale) {
   ResidualBreakdown out;
-  const int nc = static_cast<int>(t.errors.size());
+  const int nc = static_cast<int>(errors.size());
   if (nc == 0) return out;
   // Impulse scale: the mean normal impulse; without any impulse, the largest one a single
   // contact would need to stop its free approach; failing that, 1.
-  out.scale = t.sum_rn > 0.0 ? t.sum_rn / nc : (t.free_scale > 0.0 ? t.free_scale : 1.0);
+  out.scale = sum_rn > 0.0 ? sum_rn / nc : (free_scale > 0.0 ? free_scale : 1.0);
   double sum_sq = 0.0;
   for (int k = 0; k < nc; ++k) {
-    sum_sq += t.errors[k] * t.errors[k];
-    if (out.worst_contact < 0 || t.errors[k] > t.errors[out.worst_contact]) out.worst_contact = k;
+    sum_sq += errors[k] * errors[k];
+    if (out.worst_contact < 0 || errors[k] > errors[out.worst_contact]) out.worst_contact = k;
   }
-  out.residual = t.errors[out.worst_contact] / out.scale;
+  out.residual = errors[out.worst_contact] / out.scale;
   out.rms = std::sqrt(sum_sq / nc) / out.scale;
   return out;
 }
@@ -104,15 +99,11 @@ void ResidualEvaluator::Errors(const Eigen::VectorXd& impulses, const VelocitySt
   }
 }
 
-ResidualBreakdown ResidualEvaluator::Summarise(const Eigen::VectorXd& impulses, std::vector<double>& errors) const {
-  ContactTerms terms;
-  terms.errors.swap(errors);
+ResidualBreakdown ResidualEvaluator::Summarise(const Eigen::VectorXd& impulses, const std::vector<double>& errors) const {
+  double sum_rn = 0.0;
   const int stride = p_.UnknownsPerContact();
-  for (int k = 0; k < p_.NumContacts(); ++k) terms.sum_rn += std::abs(impulses[k * stride]);
-  terms.free_scale = free_scale_;
-  const ResidualBreakdown out = SummariseTerms(terms);
-  errors.swap(terms.errors);
-  return out;
+  for (int k = 0; k < p_.NumContacts(); ++k) sum_rn += std::abs(impulses[k * stride]);
+  return Summary(errors, sum_rn, free_scale_);
 }
 
 ResidualBreakdown ResidualEvaluator::operator()(const Eigen::VectorXd& impulses) const {
@@ -129,16 +120,16 @@ ResidualBreakdown ComputeResidual(const DelassusProblem& p, const Eigen::VectorX
   const int nc = p.NumContacts();
   const Eigen::VectorXd u = p.w * impulses + p.q;
   const Eigen::VectorXd diagonal = p.w.diagonal();
-  ContactTerms terms;
-  terms.errors.resize(nc);
+  std::vector<double> errors(nc);
+  double sum_rn = 0.0, free_scale = 0.0;
   for (int k = 0; k < nc; ++k) {
     const Eigen::Vector2d r = Pair(impulses, k);
     const double rho = WeightFromDiagonal(Pair(diagonal, k));
-    terms.errors[k] = ContactError(p.laws[k], true, rho, r, Pair(u, k));
-    terms.sum_rn += std::abs(r[0]);
-    terms.free_scale = std::max(terms.free_scale, rho * std::abs(p.q[2 * k]));
+    errors[k] = ContactError(p.laws[k], true, rho, r, Pair(u, k));
+    sum_rn += std::abs(r[0]);
+    free_scale = std::max(free_scale, rho * std::abs(p.q[2 * k]));
   }
-  return SummariseTerms(terms);
+  return Summary(errors, sum_rn, free_scale);
 }
 
 double SiconosError(const DelassusProblem& p, const Eigen::VectorXd& impulses) {

@@ -50,7 +50,7 @@ class ResidualEvaluator {
   // (sized NumContacts()), and the summary of all of them.
   VelocityState Velocities(const Eigen::VectorXd& impulses) const;
   void Errors(const Eigen::VectorXd& impulses, const VelocityState& v, int begin, int end, std::vector<double>& errors) const;
-  ResidualBreakdown Summarise(const Eigen::VectorXd& impulses, std::vector<double>& errors) const;
+  ResidualBreakdown Summarise(const Eigen::VectorXd& impulses, const std::vector<double>& errors) const;
 
  private:
   const ContactProblem& p_;
