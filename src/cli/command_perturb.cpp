@@ -37,6 +37,11 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_flag("--cold-check", cold_check,
              "the 10 xi check solves from zero impulses, as at xi, instead of continuing the answer at xi on its "
              "stick/slide/open pattern: it then also asks that the solver pick the same member of the step's solutions at both gaps");
+  a.add_option("--member", member,
+               "which solution of a step whose solutions form a family: path (the backend's), or nearest (the solution "
+               "with the same motion pattern nearest the static forces, by a linear program)")
+      ->check(CLI::IsMember({"path", "nearest"}))
+      ->capture_default_str();
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.backend = "auto";  // newton without friction, lemke with it (PerturbationOptions)
   solver.backend_may_be_auto = true;
@@ -90,6 +95,7 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.check_linearity = f.check_linearity;
   o.check_by_continuation = !f.cold_check;
   o.fallback = f.fallback;
+  o.nearest_member = f.member == "nearest";
   if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
   return o;
@@ -122,6 +128,8 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // Only when there is one, so that records written before the fallback existed resume
   // with --fallback none.
   if (o.fallback != "none") header["fallback"] = o.fallback;
+  // Only when not the path's, for the same reason.
+  if (o.nearest_member) header["member"] = "nearest";
   return header;
 }
 
@@ -250,7 +258,8 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
   nlohmann::json j = {
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
       {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend}, {"fallback", o.fallback},
-      {"check_linearity", o.check_linearity}, {"check_by_continuation", o.check_linearity && o.check_by_continuation}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
+      {"check_linearity", o.check_linearity}, {"check_by_continuation", o.check_linearity && o.check_by_continuation},
+      {"member", o.nearest_member ? "nearest" : "path"}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
       {"dynamic", s.dynamic}, {"nonlinear", s.nonlinear}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
       {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
       {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},

@@ -269,6 +269,7 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);
   solve.solver.lemke_velocity_scale = options.gap / options.dt;
+  solve.nearest_member = options.nearest_member;
   return solve;
 }
 

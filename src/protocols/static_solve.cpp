@@ -1,10 +1,13 @@
 #include "unjam/protocols/static_solve.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 #include "unjam/problem/assembly.hpp"
 #include "unjam/problem/kinematics.hpp"
+#include "unjam/solvers/pattern_lp.hpp"
+#include "unjam/solvers/residual.hpp"
 
 namespace unjam {
 
@@ -44,6 +47,34 @@ void RecordMotion(const AssembledProblem& assembled, const VelocityState& v, dou
   }
   out.cell_strain = assembled.problem.cell ? dt * v.cell_rate : 0.0;
 }
+std::string FormatShort(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2g", x);
+  return buffer;
+}
+
+// The nearest member of the answer's pattern family (StaticSolveOptions::nearest_member):
+// replaces the answer where the pattern LP finds one that meets the tolerance. The pattern
+// is read with κ = 1 (solvers/pattern_lp.hpp): an exact answer gives its own at any κ, and
+// on inexact ones (newton's stalls) no κ tried (1e-2 to 1e4) gave a pattern with a solution.
+void SelectNearestMember(const ContactProblem& p, const StaticSolveOptions& options, SolveResult& result) {
+  double v_scale = options.solver.lemke_velocity_scale;
+  if (!(v_scale > 0.0)) v_scale = std::max(VelocityOffset(p).cwiseAbs().maxCoeff(), 1e-300);
+  const PatternSolution s = SolveOnPattern(p, result.impulses, p.initial_guess, v_scale, 1.0);
+  const double residual = s.found ? ComputeResidual(p, s.impulses).residual : 0.0;
+  if (!s.found || !(residual <= options.solver.tolerance)) {
+    result.report.message += "; no member of its pattern meets the tolerance (" +
+                             (s.found ? "the pattern LP's: residual " + FormatShort(residual) : s.message) + ")";
+    return;
+  }
+  result.impulses = s.impulses;
+  result.basis.clear();
+  result.report.residual = residual;
+  result.report.status = SolveStatus::kConverged;
+  result.report.message += "; nearest member of its pattern (pattern LP: " + std::to_string(s.pattern.open) + " open, " +
+                           std::to_string(s.pattern.sliding) + " sliding, " + std::to_string(s.pattern.sticking) + " sticking)";
+  result.report.backend += "+pattern";
+}
 }  // namespace
 
 StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& options) {
@@ -71,6 +102,7 @@ StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const Static
   const ContactProblem& p = assembled.problem;
 
   SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver);
+  if (options.nearest_member) SelectNearestMember(p, options, result);
   out.report = result.report;
   out.forces.assign(out.contacts.size(), Eigen::Vector2d::Zero());
   const int stride = p.UnknownsPerContact();

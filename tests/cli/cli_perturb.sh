@@ -97,6 +97,26 @@ PY
 "$unjam" perturb "$work/vg5.unjam" --all --fallback simplex >/dev/null 2>"$work/fb.err"; code=$?
 [ "$code" -eq 2 ] && grep -q -- "--fallback" "$work/fb.err" || fail "--fallback simplex: exit $code, expected 2 naming the option"
 
+# --member nearest: each answer is replaced by the member of its motion pattern nearest the
+# static forces (the pattern LP); recorded in the JSON and the header, named in each row's
+# backend; the same critical force as the path's answer here (one disk: a unique answer);
+# its records do not resume a run on the path's member; an unknown rule is refused.
+"$unjam" perturb "$work/vg5.unjam" --all --json --threads 1 --backend lemke --member nearest -o "$work/nm" >"$work/nm.json" 2>/dev/null || fail "perturb --member nearest: exit $?"
+/usr/bin/python3 - "$work/nm.json" "$work/nm/perturbations.csv" "$work/nm/records.jsonl" "$work/named.json" <<'PY' || fail "perturb: --member nearest is recorded and keeps F_crit"
+import csv, json, sys
+d = json.load(open(sys.argv[1]))
+path = json.load(open(sys.argv[4]))
+assert d["member"] == "nearest" and path["member"] == "path", (d, path)
+assert d["used"] == path["used"] and abs(d["mean_fcrit"] - path["mean_fcrit"]) < 1e-9 * abs(path["mean_fcrit"]), (d, path)
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert all(r["backend"] == "lemke+pattern" for r in rows if r["status"] == "ok"), rows
+assert json.loads(open(sys.argv[3]).readline())["member"] == "nearest"
+PY
+"$unjam" perturb "$work/vg5.unjam" --all --threads 1 --backend lemke -o "$work/nm" >/dev/null 2>"$work/nm.err"; code=$?
+[ "$code" -eq 2 ] && grep -q "member" "$work/nm.err" || fail "records of --member nearest resumed a run on the path's member: exit $code"
+"$unjam" perturb "$work/vg5.unjam" --all --member closest >/dev/null 2>"$work/nm.err"; code=$?
+[ "$code" -eq 2 ] && grep -q -- "--member" "$work/nm.err" || fail "--member closest: exit $code, expected 2 naming the option"
+
 # A blocked perturbation: at fixed volume a frictionless packing cannot open a contact
 # (docs/perturbations.md). Reported as blocked with no F_crit; exit 3 only if asked.
 "$unjam" perturb "$src/problems/pressure-n500-mu0.unjam" --contact 0 --mode fixed-volume --json --threads 1 \

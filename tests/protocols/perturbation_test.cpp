@@ -387,6 +387,41 @@ TEST(Perturbation, LemkeResolvesEveryShiftOfTheSmallPile) {
   }
 }
 
+// The rule `--member nearest` (PerturbationOptions::nearest_member): the answer's member
+// of its family is replaced by the one with the same motion pattern nearest the static
+// forces (the pattern LP). On the small pile's top shift of particle 33 (quasi-static,
+// linear) that is another member, whose impulses differ by up to 4.5, and whose F_crit and
+// displacements are those of the path's answer: by virtual work, a self-stress that keeps
+// the pattern changes F_crit only through the normal forces of sliding contacts.
+TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  PerturbationOptions path;
+  const PerturbationBase base = PreparePerturbations(scene, path);
+  const PerturbationTarget target = TopTargets(base)[5];
+  ASSERT_EQ(target.i, 33);
+  PerturbationOptions nearest = path;
+  nearest.nearest_member = true;
+  const PerturbationResult a = Perturb(base, target, path);
+  const PerturbationResult b = Perturb(base, target, nearest);
+  ASSERT_EQ(a.status, "ok") << a.solve.message;
+  ASSERT_EQ(b.status, "ok") << b.solve.message;
+  EXPECT_EQ(b.solve.backend, "lemke+pattern");
+  EXPECT_NEAR(b.f_crit, a.f_crit, 1e-9 * a.f_crit);
+  EXPECT_NEAR(b.fcrit_10xi, b.f_crit, 1e-6 * b.f_crit);
+  double moved = 0.0, change_a = 0.0, change_b = 0.0, largest_difference = 0.0;
+  for (std::size_t i = 0; i < a.displacement.size(); ++i) moved = std::max(moved, (b.displacement[i] - a.displacement[i]).norm());
+  EXPECT_LT(moved, 1e-2 * path.gap);
+  ASSERT_EQ(a.force_changes.size(), b.force_changes.size());
+  for (std::size_t k = 0; k < a.force_changes.size(); ++k) {
+    const ContactForceChange &x = a.force_changes[k], &y = b.force_changes[k];
+    change_a += std::abs(x.normal_after - x.normal_before) + std::abs(x.tangential_after - x.tangential_before);
+    change_b += std::abs(y.normal_after - y.normal_before) + std::abs(y.tangential_after - y.tangential_before);
+    largest_difference = std::max(largest_difference, std::abs(y.normal_after - x.normal_after));
+  }
+  EXPECT_GT(largest_difference, 1.0);  // another member
+  EXPECT_LT(change_b, change_a);       // nearer the static forces
+}
+
 // On the hyperstatic μ = 0.1 packing (829 contacts, 285 self-stresses) the path from zero
 // impulses of this opening (contact 8–108, F_cont = 1.315) cycles at every tie tolerance:
 // the lexicographic order of its degenerate bases is below double precision. A perturbed

@@ -72,6 +72,9 @@ struct PerturbationOptions {
   // that the solver picks the same member at both gaps. On frictional packings it does
   // not for many openings whose answer is linear (docs/perturbations.md).
   bool check_by_continuation = true;
+  // Pick the member of the step's family of solutions nearest the static forces among
+  // those with the answer's motion pattern (StaticSolveOptions::nearest_member).
+  bool nearest_member = false;
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
 double DetectionMargin(const PerturbationOptions& options);

@@ -28,6 +28,11 @@ struct StaticSolveOptions {
   double margin = 1e-6;                 // contacts detected up to this gap
   std::string backend = "nsgs";
   SolverOptions solver;
+  // After the backend: replace its answer by the solution with the same motion pattern
+  // nearest the initial guess (the stored forces), by the pattern LP (solvers/pattern_lp.hpp),
+  // where one exists and meets the tolerance. The rule that picks one member of a step's
+  // family of solutions (docs/perturbations.md, "Which member").
+  bool nearest_member = false;
 };
 
 struct StaticSolution {
