@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <ClpSimplex.hpp>
@@ -285,6 +287,14 @@ double ImpulseScale(const ContactProblem& p, const Eigen::VectorXd& reference, c
 PatternSolution SolveOnPattern(const ContactProblem& problem, const Eigen::VectorXd& candidate,
                                const Eigen::VectorXd& reference, double velocity_scale,
                                double velocity_weight) {
+  const auto sized = [&](const Eigen::VectorXd& v) { return v.size() == problem.NumUnknowns() && v.allFinite(); };
+  if (!sized(candidate) || !sized(reference)) {
+    throw std::invalid_argument("pattern LP: candidate and reference need " + std::to_string(problem.NumUnknowns()) +
+                                " finite impulses");
+  }
+  if (!(velocity_scale > 0.0) || !std::isfinite(velocity_scale) || !(velocity_weight > 0.0) || !std::isfinite(velocity_weight)) {
+    throw std::invalid_argument("pattern LP: the velocity scale and weight must be finite and > 0");
+  }
   PatternSolution out;
   out.velocity_weight = velocity_weight;
   const double r_scale = ImpulseScale(problem, reference, candidate);

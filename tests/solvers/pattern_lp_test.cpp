@@ -2,6 +2,8 @@
 // solutions form a family, it finds the member with the same motion pattern nearest the
 // static forces, which is itself an exact solution; from a candidate whose pattern no
 // solution has, it finds nothing and says so.
+#include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -65,6 +67,17 @@ TEST(PatternLp, APatternNoSolutionHasIsReported) {
   EXPECT_FALSE(r.found);
   EXPECT_GT(r.pattern.open, 0.9 * s.problem.NumContacts());  // all but contacts without a static force
   EXPECT_NE(r.message.find("static forces of the pattern: infeasible"), std::string::npos) << r.message;
+}
+
+TEST(PatternLp, BadInputIsRefused) {
+  const PileShift s = SmallPileShift();
+  const Eigen::VectorXd& r = s.problem.initial_guess;
+  EXPECT_THROW(SolveOnPattern(s.problem, r.head(3), r, 1e-9, 1.0), std::invalid_argument);
+  Eigen::VectorXd nan = r;
+  nan[0] = std::nan("");
+  EXPECT_THROW(SolveOnPattern(s.problem, r, nan, 1e-9, 1.0), std::invalid_argument);
+  EXPECT_THROW(SolveOnPattern(s.problem, r, r, 0.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(SolveOnPattern(s.problem, r, r, 1e-9, -1.0), std::invalid_argument);
 }
 
 }  // namespace

@@ -51,7 +51,9 @@ struct PatternSolution {
 // off the candidate by the natural map z = r / R − κ ũ / V of each law (R the mean normal
 // impulse of the reference), κ = `velocity_weight`: open if z_n < 0, sliding if
 // |z_t| > μ z_n, else sticking. An exact answer gives its own pattern at any κ > 0.
-// `reference`: impulses to stay near, UnknownsPerContact() per contact.
+// `reference`: impulses to stay near, UnknownsPerContact() per contact. Throws
+// std::invalid_argument for vectors of the wrong size or not finite, or a scale or
+// weight that is not a finite positive number.
 PatternSolution SolveOnPattern(const ContactProblem& problem, const Eigen::VectorXd& candidate,
                                const Eigen::VectorXd& reference, double velocity_scale,
                                double velocity_weight);
