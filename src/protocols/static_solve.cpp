@@ -47,6 +47,7 @@ void RecordMotion(const AssembledProblem& assembled, const VelocityState& v, dou
   }
   out.cell_strain = assembled.problem.cell ? dt * v.cell_rate : 0.0;
 }
+
 std::string FormatShort(double x) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.2g", x);
@@ -68,7 +69,7 @@ void SelectNearestMember(const ContactProblem& p, const StaticSolveOptions& opti
     return;
   }
   result.impulses = s.impulses;
-  result.basis.clear();
+  result.basis.clear();  // not the path's basis: the small-gap check solves 10ξ as at ξ
   result.report.residual = residual;
   result.report.status = SolveStatus::kConverged;
   result.report.message += "; nearest member of its pattern (pattern LP: " + std::to_string(s.pattern.open) + " open, " +
