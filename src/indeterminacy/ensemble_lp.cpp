@@ -3,16 +3,13 @@
 #include <limits>
 #include <thread>
 
-#include <CoinPackedMatrix.hpp>
-
 namespace unjam::indeterminacy_internal {
 
 LpTriplets EnsembleLp(const EquilibriumSystem& s) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   const int n = s.NumUnknowns();
   LpTriplets lp;
-  lp.col_lower.assign(n, 0.0);
-  lp.col_upper.assign(n, kInfinity);
+  lp.AddColumns(n, 0.0, kInfinity);
   for (int r = 0; r < s.NumRows(); ++r) lp.AddRow(s.load[r] / s.force_scale, s.load[r] / s.force_scale);
   for (int k = 0; k < s.matrix.outerSize(); ++k) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(s.matrix, k); it; ++it) {
@@ -31,19 +28,9 @@ LpTriplets EnsembleLp(const EquilibriumSystem& s) {
   return lp;
 }
 
-void LoadIntoClp(const LpTriplets& lp, const std::vector<double>& objective, double tolerance, ClpSimplex& model) {
-  const CoinPackedMatrix matrix(true, lp.rows.data(), lp.cols.data(), lp.values.data(),
-                                static_cast<CoinBigIndex>(lp.values.size()));
-  model.setLogLevel(0);
-  model.loadProblem(matrix, lp.col_lower.data(), lp.col_upper.data(), objective.data(), lp.row_lower.data(),
-                    lp.row_upper.data());
-  model.setPrimalTolerance(tolerance);
-  model.setDualTolerance(tolerance);
-}
-
 std::unique_ptr<ClpSimplex> EnsembleModel(const EquilibriumSystem& s, double tolerance) {
   auto model = std::make_unique<ClpSimplex>();
-  LoadIntoClp(EnsembleLp(s), std::vector<double>(s.NumUnknowns(), 0.0), tolerance, *model);
+  lp::LoadIntoClp(EnsembleLp(s), tolerance, *model);
   return model;
 }
 

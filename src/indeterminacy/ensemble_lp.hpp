@@ -11,33 +11,15 @@
 
 #include <ClpSimplex.hpp>
 
+#include "../problem/lp_triplets.hpp"
 #include "unjam/indeterminacy/equilibrium_system.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
 
 namespace unjam::indeterminacy_internal {
 
-struct LpTriplets {
-  std::vector<int> rows, cols;
-  std::vector<double> values;
-  std::vector<double> col_lower, col_upper, row_lower, row_upper;  // ±infinity where free
-
-  void Add(int row, int col, double value) {
-    rows.push_back(row);
-    cols.push_back(col);
-    values.push_back(value);
-  }
-  int AddRow(double lower, double upper) {
-    row_lower.push_back(lower);
-    row_upper.push_back(upper);
-    return static_cast<int>(row_lower.size()) - 1;
-  }
-};
+using lp::LpTriplets;
 
 LpTriplets EnsembleLp(const EquilibriumSystem& system);
-
-// Loads `lp` with the given objective (one entry per column) into a CLP model, silent,
-// with primal and dual tolerances `tolerance`.
-void LoadIntoClp(const LpTriplets& lp, const std::vector<double>& objective, double tolerance, ClpSimplex& model);
 
 // A CLP model of the ensemble with a zero objective (not yet solved).
 std::unique_ptr<ClpSimplex> EnsembleModel(const EquilibriumSystem& system, double tolerance);

@@ -8,8 +8,9 @@
 #include <vector>
 
 #include <ClpSimplex.hpp>
-#include <CoinPackedMatrix.hpp>
 #include <Eigen/SparseCore>
+
+#include "../problem/lp_triplets.hpp"
 
 namespace unjam {
 
@@ -51,87 +52,60 @@ std::vector<State> PatternOf(const ContactProblem& p, const Eigen::VectorXd& can
   return states;
 }
 
-// Rows, columns and bounds of a CLP model, built up in triplets.
-struct Lp {
-  std::vector<int> rows, cols;
-  std::vector<double> values, col_lower, col_upper, row_lower, row_upper, objective;
+using lp::LpTriplets;
 
-  int AddColumns(int n, double lower, double upper, double cost) {
-    const int first = static_cast<int>(col_lower.size());
-    col_lower.resize(first + n, lower);
-    col_upper.resize(first + n, upper);
-    objective.resize(first + n, cost);
-    return first;
-  }
-  int AddRow(double lower, double upper) {
-    row_lower.push_back(lower);
-    row_upper.push_back(upper);
-    return static_cast<int>(row_lower.size()) - 1;
-  }
-  void Add(int row, int col, double value) {
-    rows.push_back(row);
-    cols.push_back(col);
-    values.push_back(value);
-  }
+// The sparse views of the problem that both stages read, assembled once.
+struct Operators {
+  Eigen::SparseMatrix<double, Eigen::RowMajor> h;  // H, rows per contact (n[, t])
+  Eigen::VectorXd inv_mass, v_free;                // per degree of freedom
+  explicit Operators(const ContactProblem& p)
+      : h(AssembleJacobian(p)), inv_mass(InverseMassDiagonal(p)), v_free(FreeVelocityVector(p)) {}
 };
 
-// Adds columns e⁺, e⁻ ≥ 0 and rows x_c − e⁺ + e⁻ = target_c for the columns [first,
-// first + n): the LP then minimises Σ |x − target| (its only costs).
-void AddL1Distance(Lp& lp, int first, int n, const Eigen::VectorXd& target) {
-  const int plus = lp.AddColumns(n, 0.0, kInfinity, 1.0);
-  const int minus = lp.AddColumns(n, 0.0, kInfinity, 1.0);
-  for (int c = 0; c < n; ++c) {
-    const int row = lp.AddRow(target[c], target[c]);
-    lp.Add(row, first + c, 1.0);
-    lp.Add(row, plus + c, -1.0);
-    lp.Add(row, minus + c, 1.0);
-  }
+// A row lower ≤ x_t + sign μ x_n ≤ upper on the columns (n, n + 1) of contact k's unknowns.
+int AddFrictionRow(LpTriplets& lp, int n, double mu, double sign, double lower, double upper) {
+  const int row = lp.AddRow(lower, upper);
+  lp.Add(row, n + 1, 1.0);
+  lp.Add(row, n, sign * mu);
+  return row;
 }
 
 // Stage 1, the quasi-static limit: the impulses r̂ = r / R nearest the reference that the
 // pattern's laws allow and that balance the step's load with no motion, Hᵀ r = −M v_free
 // (the response is O(ξ) and its inertia O(ξ) of the forces). Columns r̂, e⁺, e⁻; rows: the
 // balance, the pattern's friction, r̂ − e⁺ + e⁻ = reference / R.
-Lp BuildStaticLp(const ContactProblem& p, const std::vector<State>& states, const Eigen::VectorXd& reference,
-                 double r_scale) {
+LpTriplets BuildStaticLp(const ContactProblem& p, const Operators& ops, const std::vector<State>& states,
+                         const Eigen::VectorXd& reference, double r_scale) {
   const int dofs = p.NumDofs(), unknowns = p.NumUnknowns(), per = p.UnknownsPerContact();
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> h = AssembleJacobian(p);
-  const Eigen::VectorXd inv_mass = InverseMassDiagonal(p);
-  const Eigen::VectorXd v_free = FreeVelocityVector(p);
-  Lp lp;
-  const int r = lp.AddColumns(unknowns, -kInfinity, kInfinity, 0.0);
+  LpTriplets lp;
+  const int r = lp.AddColumns(unknowns, -kInfinity, kInfinity);
   for (int d = 0; d < dofs; ++d) {
-    const double load = -v_free[d] / inv_mass[d] / r_scale;
+    const double load = -ops.v_free[d] / ops.inv_mass[d] / r_scale;
     lp.AddRow(load, load);
   }
   for (int u = 0; u < unknowns; ++u) {
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(h, u); it; ++it) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ops.h, u); it; ++it) {
       lp.Add(static_cast<int>(it.col()), r + u, it.value());
     }
   }
-  auto fix = [&](int u) { lp.col_lower[r + u] = lp.col_upper[r + u] = 0.0; };
-  auto friction_row = [&](int k, double sign, double lower, double upper) {  // r_t + sign μ r_n
-    const int row = lp.AddRow(lower, upper);
-    lp.Add(row, r + per * k + 1, 1.0);
-    lp.Add(row, r + per * k, sign * p.contacts[k].mu);
-  };
   for (int k = 0; k < p.NumContacts(); ++k) {
-    const int n = per * k;
-    if (states[k] != State::kHeld) lp.col_lower[r + n] = 0.0;
-    if (states[k] == State::kOpen) fix(n);
+    const int n = r + per * k;
+    const double mu = p.contacts[k].mu;
+    if (states[k] != State::kHeld) lp.col_lower[n] = 0.0;
+    if (states[k] == State::kOpen) lp.FixColumn(n);
     if (per == 1) continue;
     switch (states[k]) {
       case State::kOpen:
-      case State::kHeld: fix(n + 1); break;
+      case State::kHeld: lp.FixColumn(n + 1); break;
       case State::kSticking:
-        friction_row(k, -1.0, -kInfinity, 0.0);
-        friction_row(k, 1.0, 0.0, kInfinity);
+        AddFrictionRow(lp, n, mu, -1.0, -kInfinity, 0.0);
+        AddFrictionRow(lp, n, mu, 1.0, 0.0, kInfinity);
         break;
-      case State::kSlidingForward: friction_row(k, 1.0, 0.0, 0.0); break;    // ũ_t > 0: r_t = −μ r_n
-      case State::kSlidingBackward: friction_row(k, -1.0, 0.0, 0.0); break;  // ũ_t < 0: r_t = +μ r_n
+      case State::kSlidingForward: AddFrictionRow(lp, n, mu, 1.0, 0.0, 0.0); break;    // ũ_t > 0: r_t = −μ r_n
+      case State::kSlidingBackward: AddFrictionRow(lp, n, mu, -1.0, 0.0, 0.0); break;  // ũ_t < 0: r_t = +μ r_n
     }
   }
-  AddL1Distance(lp, r, unknowns, reference / r_scale);
+  lp::AddL1Distance(lp, r, reference / r_scale);
   return lp;
 }
 
@@ -148,11 +122,11 @@ Lp BuildStaticLp(const ContactProblem& p, const std::vector<State>& states, cons
 // Bounds whose slack is above kFarBound response sizes are left out: no O(1) ŝ reaches them.
 constexpr double kFarBound = 1e6;
 
-Lp BuildMotionLp(const ContactProblem& p, const std::vector<State>& states, const Eigen::VectorXd& forces,
-                 double v_scale, double& s_scale) {
+LpTriplets BuildMotionLp(const ContactProblem& p, const Operators& ops, const std::vector<State>& states,
+                         const Eigen::VectorXd& forces, double v_scale, double& s_scale) {
   const int unknowns = p.NumUnknowns(), per = p.UnknownsPerContact(), dofs = p.NumDofs();
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> h = AssembleJacobian(p);
-  const Eigen::VectorXd inv_mass = InverseMassDiagonal(p);
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = ops.h;
+  const Eigen::VectorXd& inv_mass = ops.inv_mass;
   // w̄: the mean of diag W = H M⁻¹ Hᵀ.
   double w_mean = 0.0;
   for (int u = 0; u < unknowns; ++u) {
@@ -163,10 +137,10 @@ Lp BuildMotionLp(const ContactProblem& p, const std::vector<State>& states, cons
   w_mean = std::max(w_mean / std::max(unknowns, 1), 1e-300);
   s_scale = v_scale / w_mean;
   const Eigen::VectorXd posed = PosedContactVelocity(p, forces);
-  Lp lp;
+  LpTriplets lp;
   // Columns ŵ = Δv / V and ŝ; rows ŵ − (M⁻¹ / w̄) Hᵀ ŝ = 0 (the velocity change Δr makes).
-  const int v = lp.AddColumns(dofs, -kInfinity, kInfinity, 0.0);
-  const int s = lp.AddColumns(unknowns, -kInfinity, kInfinity, 0.0);
+  const int v = lp.AddColumns(dofs, -kInfinity, kInfinity);
+  const int s = lp.AddColumns(unknowns, -kInfinity, kInfinity);
   for (int d = 0; d < dofs; ++d) lp.Add(lp.AddRow(0.0, 0.0), v + d, 1.0);
   for (int u = 0; u < unknowns; ++u) {
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(h, u); it; ++it) {
@@ -181,66 +155,51 @@ Lp BuildMotionLp(const ContactProblem& p, const std::vector<State>& states, cons
     }
   };
   auto bounded = [&](double slack) { return slack / s_scale < kFarBound; };
-  auto fix = [&](int u) { lp.col_lower[s + u] = lp.col_upper[s + u] = 0.0; };
-  auto friction_row = [&](int k, double sign, double lower, double upper) {  // Δr_t + sign μ Δr_n
-    const int row = lp.AddRow(lower, upper);
-    lp.Add(row, s + per * k + 1, 1.0);
-    lp.Add(row, s + per * k, sign * p.contacts[k].mu);
-  };
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int n = per * k, t = n + 1;
-    const double r_n = forces[n];
+    const double r_n = forces[n], mu = p.contacts[k].mu;
     if (states[k] != State::kHeld && states[k] != State::kOpen && bounded(r_n)) lp.col_lower[s + n] = -r_n / s_scale;
     switch (states[k]) {
       case State::kOpen:
         velocity_row(n, 0.0, kInfinity);
-        for (int u = n; u < n + per; ++u) fix(u);
+        for (int u = n; u < n + per; ++u) lp.FixColumn(s + u);
         break;
       case State::kHeld:
         velocity_row(n, 0.0, 0.0);
-        if (per == 2) fix(t);
+        if (per == 2) lp.FixColumn(s + t);
         break;
       case State::kSticking:
         velocity_row(n, 0.0, 0.0);
         if (per == 1) break;
         velocity_row(t, 0.0, 0.0);
-        {
-          const double mu = p.contacts[k].mu;
-          if (bounded(mu * r_n - forces[t])) friction_row(k, -1.0, -kInfinity, (mu * r_n - forces[t]) / s_scale);
-          if (bounded(mu * r_n + forces[t])) friction_row(k, 1.0, -(mu * r_n + forces[t]) / s_scale, kInfinity);
-        }
+        if (bounded(mu * r_n - forces[t])) AddFrictionRow(lp, s + n, mu, -1.0, -kInfinity, (mu * r_n - forces[t]) / s_scale);
+        if (bounded(mu * r_n + forces[t])) AddFrictionRow(lp, s + n, mu, 1.0, -(mu * r_n + forces[t]) / s_scale, kInfinity);
         break;
       case State::kSlidingForward:
         velocity_row(n, 0.0, 0.0);
         velocity_row(t, 0.0, kInfinity);
-        friction_row(k, 1.0, 0.0, 0.0);
+        AddFrictionRow(lp, s + n, mu, 1.0, 0.0, 0.0);
         break;
       case State::kSlidingBackward:
         velocity_row(n, 0.0, 0.0);
         velocity_row(t, -kInfinity, 0.0);
-        friction_row(k, -1.0, 0.0, 0.0);
+        AddFrictionRow(lp, s + n, mu, -1.0, 0.0, 0.0);
         break;
     }
   }
-  AddL1Distance(lp, s, unknowns, Eigen::VectorXd::Zero(unknowns));
+  lp::AddL1Distance(lp, s, Eigen::VectorXd::Zero(unknowns));
   return lp;
 }
 
 // Solves `lp` by CLP's primal simplex; its columns' values, or empty with a message.
-std::vector<double> SolveLp(const Lp& lp, long long& iterations, std::string& message) {
-  const CoinPackedMatrix matrix(true, lp.rows.data(), lp.cols.data(), lp.values.data(),
-                                static_cast<CoinBigIndex>(lp.values.size()));
+std::vector<double> SolveLp(const LpTriplets& lp, long long& iterations, std::string& message) {
   ClpSimplex model;
-  model.setLogLevel(0);
-  model.loadProblem(matrix, lp.col_lower.data(), lp.col_upper.data(), lp.objective.data(), lp.row_lower.data(),
-                    lp.row_upper.data());
-  model.setPrimalTolerance(1e-10);
-  model.setDualTolerance(1e-10);
+  lp::LoadIntoClp(lp, 1e-10, model);
   // The primal simplex: 2–10× fewer iterations and less time than the dual on these
   // models (an N = 500 opening: 1.1 s against 2.5 s for the motion).
   model.primal();
   iterations += model.numberIterations();
-  if (model.isProvenOptimal()) return std::vector<double>(model.getColSolution(), model.getColSolution() + lp.col_lower.size());
+  if (model.isProvenOptimal()) return std::vector<double>(model.getColSolution(), model.getColSolution() + lp.NumColumns());
   message = model.isProvenPrimalInfeasible() ? "infeasible" : "CLP stopped with status " + std::to_string(model.status());
   return {};
 }
@@ -296,11 +255,11 @@ PatternSolution SolveOnPattern(const ContactProblem& problem, const Eigen::Vecto
     throw std::invalid_argument("pattern LP: the velocity scale and weight must be finite and > 0");
   }
   PatternSolution out;
-  out.velocity_weight = velocity_weight;
+  const Operators ops(problem);
   const double r_scale = ImpulseScale(problem, reference, candidate);
   const std::vector<State> states = PatternOf(problem, candidate, r_scale, velocity_scale, velocity_weight, out.pattern);
   std::string why;
-  const std::vector<double> forces = SolveLp(BuildStaticLp(problem, states, reference, r_scale), out.iterations, why);
+  const std::vector<double> forces = SolveLp(BuildStaticLp(problem, ops, states, reference, r_scale), out.iterations, why);
   if (forces.empty()) {
     out.message = "static forces of the pattern: " + why;
     return out;
@@ -308,7 +267,7 @@ PatternSolution SolveOnPattern(const ContactProblem& problem, const Eigen::Vecto
   out.impulses = Eigen::Map<const Eigen::VectorXd>(forces.data(), problem.NumUnknowns()) * r_scale;
   ProjectOntoPattern(problem, states, out.impulses);
   double s_scale = 0.0;
-  const std::vector<double> change = SolveLp(BuildMotionLp(problem, states, out.impulses, velocity_scale, s_scale), out.iterations, why);
+  const std::vector<double> change = SolveLp(BuildMotionLp(problem, ops, states, out.impulses, velocity_scale, s_scale), out.iterations, why);
   if (change.empty()) {
     out.message = "motion of the pattern: " + why;
     return out;

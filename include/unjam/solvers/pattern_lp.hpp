@@ -20,9 +20,8 @@
 //      velocities, keeping the force laws.
 // The result solves the step exactly, every law holding by construction, whatever the
 // candidate's residual was. Where no solution has the candidate's pattern, or stage 2
-// cannot reach the motion from stage 1's forces (a third of exact answers measured: the
-// velocity rows of O(1) forces carry round-off of 1e-7 to 1e-5 of V, and a hyperstatic
-// packing makes them dependent), it says so.
+// cannot reach the motion from stage 1's forces (a third of exact answers measured, for a
+// reason not settled: docs/perturbations.md, "Which member"), it says so.
 // The caller recomputes the residual, as after any backend.
 #pragma once
 
@@ -42,7 +41,6 @@ struct PatternSolution {
   bool found = false;            // the LP is feasible and solved: `impulses` solve the step
   Eigen::VectorXd impulses;      // as ContactProblem lays them out
   PatternCounts pattern;
-  double velocity_weight = 0.0;  // κ of the pattern (SolveOnPattern)
   long long iterations = 0;      // simplex iterations
   std::string message;
 };
