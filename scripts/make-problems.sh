@@ -54,5 +54,11 @@ make pressure-n3000-mu0.5 --protocol pressure --n 3000 --mu 0.5 --seed 1 --step-
 make gravity-n1600-mu0.1 --protocol gravity --n 1600 --mu 0.1 --width 100 --seed 1 "${pile_then[@]}" --step-iter 500
 make gravity-n1600-mu1 --protocol gravity --n 1600 --mu 1 --width 100 --seed 1 --step-iter 2000 "${pile_then[@]}"
 
+# A hard case, with today's defaults: a tall narrow pile, 200 disks 8 wide (about 37
+# diameters high), mu = 0.1. Lemke's path from zero impulses cycles or ends on a ray on 3
+# of its top shifts and 2 of its bottom ones; in the rate form it solves them
+# (docs/backends.md, "The rate form").
+pack gravity-n200-w8-mu0.1 --protocol gravity --n 200 --width 8 --mu 0.1 --seed 2
+
 # A small pile: quick to load and solve (examples, smoke tests).
 make gravity-n100-mu0.5 --protocol gravity --n 100 --width 15 --mu 0.5 --seed 1 "${pile_then[@]}" --step-iter 500

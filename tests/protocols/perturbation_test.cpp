@@ -10,6 +10,7 @@
 
 #include "test_scenes.hpp"
 #include "unjam/analysis/response_ensemble.hpp"
+#include "unjam/indeterminacy/shift_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
 #include "unjam/protocols/static_solve.hpp"
@@ -467,6 +468,38 @@ TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
   EXPECT_LT(r.solve.residual, 1e-13);
   EXPECT_GE(r.f_crit, 0.0);
   EXPECT_LE(r.f_crit, 0.9519 * (1.0 + 1e-3));
+}
+
+// The tall narrow pile (problems/gravity-n200-w8-mu0.1: 200 disks 8 wide, μ = 0.1). On
+// the top shifts of particles 170, 24 and 78 Lemke's path from zero impulses in the step's
+// own units cycles or ends on a ray; in the rate form (velocities in units of ξ/Δt,
+// lemke.cpp) the path from zero solves each exactly. Each answer must be linear in ξ (the
+// small-gap check keeps it: status "ok") and its F_crit must lie in the shift's interval
+// over the admissible force networks (indeterminacy/shift_bounds.hpp).
+TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n200-w8-mu0.1.unjam");
+  PerturbationOptions o;
+  o.fallback = "none";
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const EquilibriumSystem system = BuildEquilibriumSystem(scene);
+  int checked = 0;
+  for (const PerturbationTarget& t : TopTargets(base)) {
+    if (t.i != 170 && t.i != 24 && t.i != 78) continue;
+    ++checked;
+    const PerturbationResult r = Perturb(base, t, o);
+    const std::string& m = r.solve.message;
+    ASSERT_EQ(r.status, "ok") << t.i << ": " << m;
+    const std::string plain = "Lemke: cold, ties 1e-16: ";
+    ASSERT_EQ(m.rfind(plain, 0), 0u) << m;
+    EXPECT_NE(m.compare(plain.size(), 6, "solved"), 0) << m;
+    EXPECT_NE(m.find("; rate form, cold, ties 1e-16: solved"), std::string::npos) << m;
+    EXPECT_LT(r.solve.residual, 1e-13);
+    const ShiftBoundsReport lp = ComputeShiftBounds(system, {{t.i, t.direction}}, {});
+    ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
+    EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6) << t.i;
+    EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6) << t.i;
+  }
+  EXPECT_EQ(checked, 3);
 }
 
 }  // namespace
