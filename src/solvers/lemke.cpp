@@ -284,8 +284,8 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // the slip speeds in units of V, the impulses as they are (Pose). The path is another
   // one, since the covering vector is 1 in the new units. On tall piles it ends where the
   // path in the step's own units cycles: on the top shifts of a 400-disk pile 24
-  // diameters high, 12 of the 13 that no plain run solved exactly (the plain runs cycled
-  // at every tie tolerance, and the perturbed ones needed Newton's polish, which stalled);
+  // diameters high, all 13 that no plain run solved exactly (the plain runs cycled at
+  // every tie tolerance, and the perturbed ones needed Newton's polish, which stalled);
   // where both solve, the same answer (4 of 4). On the periodic μ = 0.1 packing it does
   // no better than the plain paths (4 of 10 openings alone), so it comes after the first
   // of them, which keeps every answer that path gave (docs/backends.md, "The rate form").
