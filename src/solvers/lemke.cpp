@@ -279,16 +279,18 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // Runs tried in turn: from the warm start (the problem's guess), then from zero
   // impulses, each with tie tolerances 1e-16, then 1e-14 and 1e-12 (lemke_mlcp.hpp); a
   // path that ends on a ray, cycles or misses the tolerance is followed by the next run.
-  // Right after the first path from zero come two in the rate form (when the caller gives a
-  // velocity scale V, i.e. on a perturbation: ξ/Δt): the velocities, the velocity rows and
-  // the slip speeds in units of V, the impulses as they are (Pose). The path is another
-  // one, since the covering vector is 1 in the new units. On tall piles it ends where the
-  // path in the step's own units cycles: on the top shifts of a 400-disk pile 24
-  // diameters high, all 13 that no plain run solved exactly (the plain runs cycled at
-  // every tie tolerance, and the perturbed ones needed Newton's polish, which stalled);
-  // where both solve, the same answer (4 of 4). On the periodic μ = 0.1 packing it does
-  // no better than the plain paths (4 of 10 openings alone), so it comes after the first
-  // of them, which keeps every answer that path gave (docs/backends.md, "The rate form").
+  // Right after the first path from zero come paths from zero in the rate form (when the
+  // caller gives a velocity scale V, i.e. on a perturbation: ξ/Δt): the velocities, the
+  // velocity rows and the slip speeds in units of V, the impulses as they are (Pose). Its
+  // paths are other ones, since the covering vector is 1 in the new units: in the
+  // slip-speed form (ties 1e-16), in the box form (below), then in the slip-speed form
+  // with ties 1e-14. On tall piles they end where the paths in the step's own units
+  // cycle: on a 400-disk pile 24 diameters high, 13 of 17 top shifts and 6 of 17 bottom
+  // ones that no plain run solved exactly (the plain runs cycled at every tie tolerance,
+  // and the perturbed ones needed Newton's polish, which stalled); where both solve, the
+  // same answer. On the periodic μ = 0.1 packing the slip-speed form's rate paths do no
+  // better than the plain ones (4 of 10 openings alone), so they come after the first
+  // plain path, which keeps every answer it gave (docs/backends.md, "The rate form").
   // Then come two perturbed runs (lemke_mlcp.hpp), of 1e-2 and then 1e-1 of the velocity
   // scale (ξ/Δt for a perturbation): after the plain paths, so that an answer the plain
   // paths reach is theirs, the end of the path from zero impulses. On the hyperstatic μ = 0.1
@@ -337,8 +339,9 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // The rate form is the slip-speed form itself when no velocity scale is given.
   const bool rate_form = o.lemke_velocity_scale > 0.0 && o.lemke_velocity_scale != 1.0;
   if (rate_form) {
-    runs.insert(runs.end(), {{1e-16, "1e-16", false, 0.0, ConeForm::kSlipSpeed, false, true},
-                             {1e-14, "1e-14", false, 0.0, ConeForm::kSlipSpeed, false, true}});
+    runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kSlipSpeed, false, true});
+    if (frictional) runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox, false, true});
+    runs.push_back({1e-14, "1e-14", false, 0.0, ConeForm::kSlipSpeed, false, true});
   }
   runs.insert(runs.end(), {{1e-14, "1e-14", false}, {1e-12, "1e-12", false},
                            {1e-16, "1e-16", false, 1e-2}, {1e-16, "1e-16", false, 1e-1}});
@@ -347,11 +350,12 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
                              {1e-16, "1e-16", false, 1e-2, ConeForm::kShiftedBox}});
   }
   if (rate_form) runs.push_back({1e-16, "1e-16", false, 1e-2, ConeForm::kSlipSpeed, false, true});
-  std::optional<Posed> rate;  // posed when its run comes
+  std::optional<Posed> rate, rate_box;  // posed when its run comes
   for (const Run& run : runs) {
     const bool perturbed = run.perturbation > 0.0;
-    if (run.rate && !rate) rate = Pose(k, ConeForm::kSlipSpeed, velocity_scale);
-    Posed& posed = run.rate ? *rate : run.form == ConeForm::kShiftedBox ? box : slip;
+    if (run.rate && run.form == ConeForm::kSlipSpeed && !rate) rate = Pose(k, ConeForm::kSlipSpeed, velocity_scale);
+    if (run.rate && run.form == ConeForm::kShiftedBox && !rate_box) rate_box = Pose(k, ConeForm::kShiftedBox, velocity_scale);
+    Posed& posed = run.rate ? (run.form == ConeForm::kShiftedBox ? *rate_box : *rate) : run.form == ConeForm::kShiftedBox ? box : slip;
     lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's start and perturbation are set in place
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();

@@ -454,17 +454,22 @@ TEST(Perturbation, LemkeResolvesAnOpeningWhosePathFromZeroCycles) {
 }
 
 // On the same packing the opening of contact 40–317 (F_cont = 0.022) defeats the
-// slip-speed form: its paths from zero cycle and Newton's polish of the perturbed run
-// stalls (2.4e-11 against 5.3e-12). The shifted-box form (lemke.cpp), whose sticking
-// contacts are not degenerate, solves it on its first path from zero, exactly. The
-// answer must be a solution to round-off and lie in the contact's admissible interval
-// [0, 0.9519] without friction (issue 5's LP,
+// slip-speed form: its paths from zero cycle (in the step's units and in the rate form)
+// and Newton's polish of the perturbed run stalls (2.4e-11 against 5.3e-12). The
+// shifted-box form (lemke.cpp), whose sticking contacts are not degenerate, solves it on
+// its first path from zero, exactly (since 2026-11-26 in the rate form, which runs
+// first). The answer must be a solution to round-off and lie in the contact's admissible
+// interval [0, 0.9519] without friction (issue 5's LP,
 // bench/results/compare-fcrit-lp-n500-mu0.1-sample100.csv).
 TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
   PerturbationResult r;
   ASSERT_NO_FATAL_FAILURE(OpenContactOfTheMu01Packing(133, 40, 317, r));
   ASSERT_TRUE(r.resolved) << r.solve.message;
-  EXPECT_NE(r.solve.message.find("; box form, cold, ties 1e-16: solved"), std::string::npos) << r.solve.message;
+  const std::string& m = r.solve.message;
+  const std::string box_path = "box form, cold, ties 1e-16";
+  const std::size_t box = m.find(box_path + ": solved");
+  ASSERT_NE(box, std::string::npos) << m;
+  EXPECT_EQ(m.find(": solved"), box + box_path.size()) << m;  // no earlier run solved it
   EXPECT_LT(r.solve.residual, 1e-13);
   EXPECT_GE(r.f_crit, 0.0);
   EXPECT_LE(r.f_crit, 0.9519 * (1.0 + 1e-3));
