@@ -310,6 +310,9 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
   // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
   // take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
+  // Runs in the rate form get 100 per row: on the first top shift of the 1600-disk pile
+  // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 81 pivots per
+  // row, where 20 stopped it (--max-iter must allow it: the default 100 000 pivots do not).
   // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
   const bool frictional = HasFriction(k);
   Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
@@ -360,7 +363,8 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
     mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation, run.rate ? velocity_scale : 1.0) : Eigen::VectorXd();
-    const int per_run = std::min(o.max_iterations, 20 * posed.enc.variables + 100);
+    const int per_row = run.rate ? 100 : 20;
+    const int per_run = static_cast<int>(std::min<long long>(o.max_iterations, 1LL * per_row * posed.enc.variables + 100));
     const lemke_internal::LemkeResult lemke =
         lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);
     pivots += lemke.pivots;
