@@ -353,12 +353,17 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
                              {1e-16, "1e-16", false, 1e-2, ConeForm::kShiftedBox}});
   }
   if (rate_form) runs.push_back({1e-16, "1e-16", false, 1e-2, ConeForm::kSlipSpeed, false, true});
-  std::optional<Posed> rate, rate_box;  // posed when its run comes
+  std::optional<Posed> rate_slip, rate_box;  // the rate form, posed when its first run comes
+  auto posed_for = [&](const Run& run) -> Posed& {
+    const bool is_box = run.form == ConeForm::kShiftedBox;
+    if (!run.rate) return is_box ? box : slip;
+    std::optional<Posed>& lazy = is_box ? rate_box : rate_slip;
+    if (!lazy) lazy = Pose(k, run.form, velocity_scale);
+    return *lazy;
+  };
   for (const Run& run : runs) {
     const bool perturbed = run.perturbation > 0.0;
-    if (run.rate && run.form == ConeForm::kSlipSpeed && !rate) rate = Pose(k, ConeForm::kSlipSpeed, velocity_scale);
-    if (run.rate && run.form == ConeForm::kShiftedBox && !rate_box) rate_box = Pose(k, ConeForm::kShiftedBox, velocity_scale);
-    Posed& posed = run.rate ? (run.form == ConeForm::kShiftedBox ? *rate_box : *rate) : run.form == ConeForm::kShiftedBox ? box : slip;
+    Posed& posed = posed_for(run);
     lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's start and perturbation are set in place
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
