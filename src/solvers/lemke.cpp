@@ -240,6 +240,7 @@ struct Posed {
   Encoding enc;
   SparseMatrix t;
   lemke_internal::Mlcp mlcp;
+  double velocity_unit = 1.0;  // the velocities' unit V (Pose): 1 in the step's own units
 };
 
 // `velocity_unit` V: the velocities (the free variables, the velocity rows and the slip
@@ -257,6 +258,7 @@ Posed Pose(const MatrixForm& k, ConeForm form, double velocity_unit = 1.0) {
   posed.mlcp.d = s * k.h;
   posed.mlcp.e_matrix = FromTriplets(posed.enc.variables, posed.enc.variables, posed.enc.coupling);
   posed.mlcp.e = s * k.offset;
+  posed.velocity_unit = velocity_unit;
   if (velocity_unit != 1.0) {
     posed.mlcp.p /= velocity_unit;
     posed.mlcp.x0 /= velocity_unit;
@@ -340,7 +342,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   if (has_guess) runs.insert(runs.end(), {{1e-16, "1e-16", true}, {1e-14, "1e-14", true}});
   runs.push_back({1e-16, "1e-16", false});
   // The rate form is the slip-speed form itself when no velocity scale is given.
-  const bool rate_form = o.lemke_velocity_scale > 0.0 && o.lemke_velocity_scale != 1.0;
+  const bool rate_form = velocity_scale != 1.0;
   if (rate_form) {
     runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kSlipSpeed, false, true});
     if (frictional) runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox, false, true});
@@ -367,7 +369,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's start and perturbation are set in place
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
-    mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation, run.rate ? velocity_scale : 1.0) : Eigen::VectorXd();
+    mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation, posed.velocity_unit) : Eigen::VectorXd();
     const int per_row = run.rate ? 100 : 20;
     const int per_run = static_cast<int>(std::min<long long>(o.max_iterations, 1LL * per_row * posed.enc.variables + 100));
     const lemke_internal::LemkeResult lemke =
