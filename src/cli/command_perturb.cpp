@@ -14,6 +14,7 @@
 #include "unjam/io/particle_export.hpp"
 #include "unjam/io/response_records.hpp"
 #include "unjam/protocols/perturbation.hpp"
+#include "unjam/solvers/contact_solver.hpp"
 
 namespace unjam::cli {
 
@@ -130,6 +131,12 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   if (o.fallback != "none") header["fallback"] = o.fallback;
   // Only when not the path's, for the same reason.
   if (o.nearest_member) header["member"] = "nearest";
+  // Only for a backend whose answers have changed, for the same reason.
+  for (const std::string& name : {o.backend, o.fallback}) {
+    if (name == "none") continue;
+    const int revision = MakeSolver(name)->AnswerRevision();
+    if (revision > 1) header["revision_" + name] = revision;
+  }
   return header;
 }
 

@@ -34,6 +34,15 @@ cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturba
 [ "$code" -eq 2 ] || fail "records of other parameters: exit $code, expected 2"
 grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"
 
+# Records of an earlier lemke (its header without the answer revision, as written before
+# the rate form changed which answers it gives) do not resume with today's lemke.
+"$unjam" perturb "$work/vg.unjam" --contact 0 --backend lemke --threads 1 -o "$work/lemke" >/dev/null 2>&1 || fail "perturb --backend lemke: exit $?"
+grep -q '"revision_lemke":2' "$work/lemke/records.jsonl" || fail "lemke records without their revision: $(head -n 1 "$work/lemke/records.jsonl")"
+sed -i '1s/,"revision_lemke":2//' "$work/lemke/records.jsonl"
+"$unjam" perturb "$work/vg.unjam" --contact 0 --backend lemke --threads 1 -o "$work/lemke" >/dev/null 2>"$work/old.err"; code=$?
+[ "$code" -eq 2 ] || fail "records of an earlier lemke: exit $code, expected 2"
+grep -q "revision_lemke" "$work/old.err" || fail "the error does not name the revision: $(cat "$work/old.err")"
+
 # The small-gap check, on by default: the V-groove's response is linear in xi, so each
 # opening is solved again at 10 xi, kept (status ok) and reported with its F_crit there.
 # With --no-check-linearity the two columns are empty (nan), and records of either kind of

@@ -117,6 +117,10 @@ class ContactSolver {
  public:
   virtual ~ContactSolver() = default;
   virtual std::string Name() const = 0;
+  // Raised when a change of the backend changes which answer it gives to the same problem
+  // (not its accuracy), so that results saved by an earlier version are not mixed with
+  // new ones (`perturb -o DIR` refuses to resume them). 1 for a backend never changed so.
+  virtual int AnswerRevision() const { return 1; }
   virtual SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) = 0;
   // The same laws posed on ũ = W r + q. Default: status kUnsupported, zero impulses (with
   // their residual) and a message naming the backend. Throws std::invalid_argument for
