@@ -1,0 +1,80 @@
+#!/usr/bin/python3
+"""The finished shifts of a (possibly unfinished) `unjam perturb --top|--bottom -o DIR` run
+beside their LP intervals from `unjam bounds --top|--bottom -o CSV` on the same pile.
+
+`perturb` writes its CSV and summary only when the whole ensemble is done; its records
+(DIR/records.jsonl, docs/format.md) grow one line per finished perturbation. This reads
+them, so that a long ensemble (the 1600-disk piles: about 25 minutes per shift) can be
+looked at while it runs or after it was stopped; rerunning the same `perturb` command
+resumes it.
+
+Prints per status the count, ⟨F_crit⟩/⟨F_y⟩ over the quasi-static (`ok`) shifts with its
+standard error (F_y the shifted particle's effective weight, the records' f_reference),
+and where each quasi-static F_crit sits in its LP interval ((F_crit − min)/(max − min);
+inside means within 1e-6 of it, which covers F_crit's O(ξ) inertial part on these piles).
+With a third argument, writes the joined rows as CSV.
+
+Usage: scripts/records_vs_bounds.py DIR/records.jsonl BOUNDS_CSV [JOINED_CSV]
+"""
+import csv
+import json
+import math
+import sys
+from collections import Counter
+
+
+def records(path):
+    lines = open(path).read().split("\n")
+    # The last line may be torn by an interruption (perturb drops it on resume).
+    return [json.loads(line) for line in lines[1:] if line.strip() and line.rstrip().endswith("}")]
+
+
+def mean_se(values):
+    m = sum(values) / len(values)
+    if len(values) < 2:
+        return m, math.nan
+    var = sum((v - m) ** 2 for v in values) / (len(values) - 1)
+    return m, math.sqrt(var / len(values))
+
+
+def main(records_path, bounds_path, joined_path=None):
+    bounds = {int(r["particle"]): r for r in csv.DictReader(open(bounds_path))}
+    rows = []
+    for rec in records(records_path):
+        particle = rec["target"]["i"]
+        b = bounds.get(particle)
+        if b is None:
+            sys.exit(f"{bounds_path}: no row for particle {particle} (another pile or side?)")
+        lo, hi = float(b["min"]), float(b["max"])
+        f = rec["f_crit"] if rec["f_crit"] is not None else math.nan
+        inside = lo - 1e-6 <= f <= hi + 1e-6 if math.isfinite(f) else False
+        where = (f - lo) / (hi - lo) if hi > lo and math.isfinite(f) else math.nan
+        rows.append({"index": rec["index"], "particle": particle, "status": rec["status"], "f_crit": f,
+                     "fcrit_10xi": rec.get("fcrit_10xi"), "f_y": rec["f_reference"], "lp_min": lo, "lp_max": hi,
+                     "inside": inside, "position": where, "delta": rec["penetration_depth"],
+                     "iterations": rec["iterations"], "residual": rec["residual"], "seconds": rec["seconds"]})
+    rows.sort(key=lambda r: r["index"])
+    print(f"{len(rows)} shifts finished: " + ", ".join(f"{n} {s}" for s, n in sorted(Counter(r['status'] for r in rows).items())))
+    ok = [r for r in rows if r["status"] == "ok"]
+    if ok:
+        m_f, _ = mean_se([r["f_crit"] for r in ok])
+        m_y, _ = mean_se([r["f_y"] for r in ok])
+        ratio, se = mean_se([r["f_crit"] / r["f_y"] for r in ok])
+        positions = [r["position"] for r in ok if math.isfinite(r["position"])]
+        print(f"ok: <F_crit>/<F_y> = {m_f / m_y:.3g}; per shift F_crit/F_y = {ratio:.3g} ± {se:.2g}")
+        print(f"ok: {sum(r['inside'] for r in ok)} of {len(ok)} inside their LP interval, at "
+              f"{min(positions):.3f}–{max(positions):.3f} of its width")
+    for r in rows:
+        print(f"  {r['particle']:5d} {r['status']:14s} F_crit {r['f_crit']:.6g}  F_y {r['f_y']:.4g}  "
+              f"LP [{r['lp_min']:.4g}, {r['lp_max']:.4g}] at {r['position']:.3f}  {r['iterations']} pivots  {r['seconds']:.0f} s")
+    if joined_path:
+        with open(joined_path, "w", newline="") as out:
+            w = csv.DictWriter(out, fieldnames=list(rows[0].keys()) if rows else ["index"])
+            w.writeheader()
+            w.writerows(rows)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) not in (3, 4):
+        sys.exit(__doc__)
+    main(*sys.argv[1:])
