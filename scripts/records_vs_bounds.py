@@ -46,7 +46,9 @@ def main(records_path, bounds_path, joined_path=None):
         if b is None:
             sys.exit(f"{bounds_path}: no row for particle {particle} (another pile or side?)")
         lo, hi = float(b["min"]), float(b["max"])
-        f = rec["f_crit"] if rec["f_crit"] is not None else math.nan
+        # An unresolved step's F_crit is no answer (docs/perturbations.md): nan here.
+        resolved = rec["f_crit"] is not None and rec["status"] != "not-converged"
+        f = rec["f_crit"] if resolved else math.nan
         inside = lo - 1e-6 <= f <= hi + 1e-6 if math.isfinite(f) else False
         where = (f - lo) / (hi - lo) if hi > lo and math.isfinite(f) else math.nan
         rows.append({"index": rec["index"], "particle": particle, "status": rec["status"], "f_crit": f,
