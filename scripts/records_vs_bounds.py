@@ -19,22 +19,20 @@ Usage: scripts/records_vs_bounds.py DIR/records.jsonl BOUNDS_CSV [JOINED_CSV]
 import csv
 import json
 import math
+import statistics
 import sys
 from collections import Counter
 
 
 def records(path):
-    lines = open(path).read().split("\n")
-    # The last line may be torn by an interruption (perturb drops it on resume).
-    return [json.loads(line) for line in lines[1:] if line.strip() and line.rstrip().endswith("}")]
+    # As perturb reads them (ReadRecords): whole lines only, so the text after the last
+    # newline, a line torn by an interruption, is not a record; line 1 is the header.
+    lines = open(path).read().split("\n")[:-1]
+    return [json.loads(line) for line in lines[1:]]
 
 
-def mean_se(values):
-    m = sum(values) / len(values)
-    if len(values) < 2:
-        return m, math.nan
-    var = sum((v - m) ** 2 for v in values) / (len(values) - 1)
-    return m, math.sqrt(var / len(values))
+def standard_error(values):
+    return statistics.stdev(values) / math.sqrt(len(values)) if len(values) > 1 else math.nan
 
 
 def main(records_path, bounds_path, joined_path=None):
@@ -59,9 +57,10 @@ def main(records_path, bounds_path, joined_path=None):
     print(f"{len(rows)} shifts finished: " + ", ".join(f"{n} {s}" for s, n in sorted(Counter(r['status'] for r in rows).items())))
     ok = [r for r in rows if r["status"] == "ok"]
     if ok:
-        m_f, _ = mean_se([r["f_crit"] for r in ok])
-        m_y, _ = mean_se([r["f_y"] for r in ok])
-        ratio, se = mean_se([r["f_crit"] / r["f_y"] for r in ok])
+        m_f = statistics.mean(r["f_crit"] for r in ok)
+        m_y = statistics.mean(r["f_y"] for r in ok)
+        ratios = [r["f_crit"] / r["f_y"] for r in ok]
+        ratio, se = statistics.mean(ratios), standard_error(ratios)
         positions = [r["position"] for r in ok if math.isfinite(r["position"])]
         print(f"ok: <F_crit>/<F_y> = {m_f / m_y:.3g}; per shift F_crit/F_y = {ratio:.3g} ± {se:.2g}")
         print(f"ok: {sum(r['inside'] for r in ok)} of {len(ok)} inside their LP interval, at "

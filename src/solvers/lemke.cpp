@@ -312,9 +312,10 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
   // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
   // take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
-  // Runs in the rate form get 100 per row: on the first top shift of the 1600-disk pile
-  // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 81 pivots per
-  // row, where 20 stopped it (--max-iter must allow it: the default 100 000 pivots do not).
+  // Runs in the rate form get 100 per row: on the top shifts of the 1600-disk pile
+  // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–98 pivots
+  // per row on 4 of the first 6, where 20 stopped it, and reached 100 on the other 2
+  // (--max-iter must allow it: the default 100 000 pivots do not).
   // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
   const bool frictional = HasFriction(k);
   Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
