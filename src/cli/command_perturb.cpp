@@ -1,4 +1,4 @@
-// `unjam perturb FILE (--contact K | --all | --sample N | --top | --bottom) ...`
+// `unjam perturb FILE (--contact K | --all | --sample N | --top | --bottom | --shift-down P | --shift-up P) ...`
 #include "command_perturb.hpp"
 
 #include <algorithm>
@@ -27,6 +27,8 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_option("--seed", seed, "seed of --sample")->capture_default_str();
   a.add_flag("--top", top, "gravity packings: push the highest particle of each bin down");
   a.add_flag("--bottom", bottom, "gravity packings: push the lowest particle of each bin up");
+  a.add_option("--shift-down", shift_down, "push particle P (0-based, in the file's order) down by xi");
+  a.add_option("--shift-up", shift_up, "push particle P (0-based, in the file's order) up by xi");
   a.add_option("--mode", mode, "contact opening: fixed-pressure or fixed-volume")->capture_default_str();
   a.add_option("--gap", gap, "perturbation size xi (gap opened, or shift), length units")->capture_default_str();
   a.add_option("--dt", dt, "time step of the quasi-static perturbation step")->capture_default_str();
@@ -66,11 +68,24 @@ struct Selection {
   std::string description;
 };
 
+Selection OneShift(const PerturbationBase& base, const std::string& option, int particle, Vec2 direction) {
+  try {
+    return {{ParticleShift(base, particle, direction)}, option.substr(2) + " " + std::to_string(particle)};
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(option + " " + std::to_string(particle) + ": " + e.what());
+  }
+}
+
 Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
-  const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.top + f.bottom;
-  if (chosen != 1) throw std::invalid_argument("choose exactly one of --contact, --all, --sample, --top, --bottom");
+  const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.top + f.bottom +
+                     f.shift_down.has_value() + f.shift_up.has_value();
+  if (chosen != 1) {
+    throw std::invalid_argument("choose exactly one of --contact, --all, --sample, --top, --bottom, --shift-down, --shift-up");
+  }
   if (f.top) return {TopTargets(base), "top"};
   if (f.bottom) return {BottomTargets(base), "bottom"};
+  if (f.shift_down) return OneShift(base, "--shift-down", *f.shift_down, Vec2(0.0, -1.0));
+  if (f.shift_up) return OneShift(base, "--shift-up", *f.shift_up, Vec2(0.0, 1.0));
   std::vector<PerturbationTarget> contacts = ContactTargets(base);
   if (f.all) return {contacts, "all"};
   if (f.sample) {
@@ -131,6 +146,8 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   if (o.fallback != "none") header["fallback"] = o.fallback;
   // Only when not the path's, for the same reason.
   if (o.nearest_member) header["member"] = "nearest";
+  // Only when not lemke's own bounds, for the same reason.
+  if (o.solver.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.solver.lemke_pivots_per_row;
   // Only for a backend whose answers have changed, for the same reason.
   for (const std::string& name : {o.backend, o.fallback}) {
     if (name == "none") continue;

@@ -20,6 +20,8 @@ struct PerturbFlags {
   std::optional<int> sample;        // --sample N
   std::uint64_t seed = 1;
   bool top = false, bottom = false;
+  std::optional<int> shift_down;    // --shift-down P
+  std::optional<int> shift_up;      // --shift-up P
   std::string mode = "fixed-pressure";
   double gap = 1e-9;
   double dt = 1.0;

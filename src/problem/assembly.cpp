@@ -110,6 +110,19 @@ ProblemContact MakeProblemContact(const Scene& scene, const Contact& c, const As
   return pc;
 }
 
+// Whether the known motions of a contact's two sides (fixed, prescribed or a wall) violate
+// its constraint within the step (close it beyond its gap, or move a held gap): the normal
+// velocity they give it is its bias, the one it needs its target (MakeProblemContact). `out`: the problem so far, in which
+// neither side has degrees of freedom.
+bool ViolatesImmovable(const Scene& scene, const Contact& c, const AssembledProblem& out, const AssemblyOptions& options) {
+  const ProblemContact pc = MakeProblemContact(scene, c, out, options);
+  const double given = pc.bias.x();
+  const double slack = options.closed_gap_tolerance / options.dt + 1e-12 * std::abs(given);
+  if (pc.kind == ConstraintKind::kBilateral) return std::abs(given - pc.target_velocity) > slack;
+  // An overlap the sides already had (target above 0) is not the motion's doing.
+  return given < std::min(pc.target_velocity, 0.0) - slack;
+}
+
 }  // namespace
 
 AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>& contacts,
@@ -132,7 +145,10 @@ AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>&
     const bool i_moves = out.body_of_particle[c.i] >= 0;
     const bool j_moves = !c.WithWall() && out.body_of_particle[c.j] >= 0;
     const bool cell_moves = p.cell && !c.WithWall();
-    if (!i_moves && !j_moves && !cell_moves) continue;
+    if (!i_moves && !j_moves && !cell_moves) {
+      if (ViolatesImmovable(scene, c, out, options)) out.violated_immovable.push_back(k);
+      continue;
+    }
     p.contacts.push_back(MakeProblemContact(scene, c, out, options));
     if (up) p.contacts.back().height = up->dot(scene.particles[c.i].position + c.branch_i);
     out.source_contact.push_back(k);

@@ -41,7 +41,13 @@ std::string PerturbationBackend(const PerturbationOptions& options, const Scene&
 std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene) {
   if (options.fallback == "none") return "";
   if (options.fallback != "auto") return options.fallback == PerturbationBackend(options, scene) ? "" : options.fallback;
-  return options.backend == "auto" && PerturbationBackend(options, scene) == "lemke" ? "ipopt" : "";
+  if (options.backend != "auto") return "";
+  if (PerturbationBackend(options, scene) == "lemke") return "ipopt";
+  // Frictionless, at fixed pressure or without a bath: newton's proximal steps crawl along
+  // a self-stress that the perturbation must unload (a disk lifted off a column: its
+  // contact keeps the static force to within ξ), and lemke's path solves it exactly.
+  const bool fixed_volume = scene.effects.pressure_bath.has_value() && options.cell == CellCondition::kFixedVolume;
+  return fixed_volume ? "" : "lemke";
 }
 
 void Validate(const PerturbationOptions& o) {
@@ -211,7 +217,7 @@ void SetOriginAndReference(const PerturbationBase& base, const PerturbationTarge
 
 double CriticalForce(const PerturbationTarget& t, const StaticSolution& s) {
   if (t.kind == PerturbationTarget::Kind::kParticleShift) {
-    return -t.direction.dot(ContactForceOn(t.i, s.contacts, s.forces));
+    return 0.0 - t.direction.dot(ContactForceOn(t.i, s.contacts, s.forces));  // +0, not −0, when nothing pushes
   }
   const int k = FindContact(s.contacts, t.i, t.j, t.image);
   return k >= 0 ? s.forces[k][0] : 0.0;
@@ -275,12 +281,12 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
 
 // A blocked perturbation: no force is measured (F_crit is NaN) and nothing moves.
 PerturbationResult Blocked(const PerturbationBase& base, const KinematicAdmissibility& kinematics,
-                           PerturbationResult r, Clock::time_point start) {
+                           PerturbationResult r, Clock::time_point start, const std::string& decided_by = "kinematic LP") {
   const std::size_t n = base.scene.particles.size();
   r.f_crit = std::nan("");
   r.displacement.assign(n, Vec2::Zero());
   r.rotation.assign(n, 0.0);
-  r.solve.backend = "kinematic LP";
+  r.solve.backend = decided_by;
   r.solve.status = SolveStatus::kNumericalFailure;
   r.solve.message = kinematics.message;
   r.resolved = false;
@@ -311,7 +317,8 @@ double LinearityMisfit(const std::vector<Vec2>& d, const std::vector<Vec2>& d_sc
     largest = std::max(largest, d_scaled[i].norm());
     misfit = std::max(misfit, (d_scaled[i] - factor * d[i]).norm());
   }
-  return largest > 0.0 ? misfit / largest : std::numeric_limits<double>::infinity();
+  if (largest > 0.0) return misfit / largest;
+  return misfit == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();  // nothing moves at either gap: linear
 }
 
 // The basis of a solution of the same base (another gap) for the contacts of `posed`, or
@@ -379,6 +386,18 @@ StaticSolution SolveAndMeasure(const PerturbationBase& base, const Scene& pertur
   return s2;
 }
 
+// Why a step is blocked whose known motion violates contact c between two sides that cannot
+// move (e.g. a particle shifted into a fixed one): no impulse can keep it closed.
+KinematicAdmissibility ImmovableViolation(const Contact& c) {
+  KinematicAdmissibility k;
+  k.decided = true;
+  k.admissible = false;
+  k.message = "the perturbation closes the contact of particle " + std::to_string(c.i) + " and " +
+              (c.WithWall() ? std::string("a wall") : "particle " + std::to_string(c.j)) +
+              ", neither of which can give way (the step would penetrate there)";
+  return k;
+}
+
 // The whole measurement at one gap; `continued`: the answer at another gap, whose basis
 // the solve tries first (check_by_continuation; the warm start stays the static forces,
 // from which newton resolves a frictionless response further than from that answer);
@@ -402,6 +421,10 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
                                  base.scene.effects.pressure_bath.has_value();
   StaticProblem posed = PoseStaticProblem(perturbed, solve);
   if (continued != nullptr) posed.assembled.problem.initial_basis = BasisFor(posed, *continued);
+  if (!posed.assembled.violated_immovable.empty()) {
+    return Blocked(base, ImmovableViolation(posed.contacts[posed.assembled.violated_immovable.front()]), std::move(r), start,
+                   "known motion");
+  }
   if (!always_admissible) {
     const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
     if (kinematics.decided && !kinematics.admissible) return Blocked(base, kinematics, std::move(r), start);
@@ -519,6 +542,20 @@ std::vector<PerturbationTarget> PerBin(const PerturbationBase& base, Vec2 direct
 
 std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base) {
   return PerBin(base, Vec2(0.0, -1.0), [](double y, double best) { return y > best; });
+}
+
+PerturbationTarget ParticleShift(const PerturbationBase& base, int particle, Vec2 direction) {
+  const int n = static_cast<int>(base.scene.particles.size());
+  if (particle < 0 || particle >= n) {
+    throw std::invalid_argument("particle " + std::to_string(particle) + " does not exist: the packing has " + std::to_string(n) +
+                                " particles (0.." + std::to_string(n - 1) + ")");
+  }
+  if (base.scene.particles[particle].fixed) throw std::invalid_argument("particle " + std::to_string(particle) + " is fixed and cannot be shifted");
+  PerturbationTarget t;
+  t.kind = PerturbationTarget::Kind::kParticleShift;
+  t.i = particle;
+  t.direction = direction.normalized();
+  return t;
 }
 
 double EffectiveWeightOf(const PerturbationBase& base, int p) { return EffectiveWeight(p, base.contacts, base.forces); }

@@ -315,7 +315,8 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // Runs in the rate form get 100 per row: on the top shifts of the 1600-disk pile
   // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–98 pivots
   // per row on 4 of the first 6, where 20 stopped it, and reached 100 on the other 2
-  // (--max-iter must allow it: the default 100 000 pivots do not).
+  // (--max-iter must allow it: the default 100 000 pivots do not). A user may set another
+  // bound for every run (SolverOptions::lemke_pivots_per_row, --lemke-row-pivots).
   // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
   const bool frictional = HasFriction(k);
   Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
@@ -371,7 +372,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
     mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation, posed.velocity_unit) : Eigen::VectorXd();
-    const int per_row = run.rate ? 100 : 20;
+    const int per_row = o.lemke_pivots_per_row > 0 ? o.lemke_pivots_per_row : run.rate ? 100 : 20;
     const int per_run = static_cast<int>(std::min<long long>(o.max_iterations, 1LL * per_row * posed.enc.variables + 100));
     const lemke_internal::LemkeResult lemke =
         lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);

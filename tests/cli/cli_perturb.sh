@@ -142,6 +142,28 @@ PY
   --quiet >/dev/null 2>&1; code=$?
 [ "$code" -eq 3 ] || fail "blocked with --require-converged: exit $code, expected 3"
 
+# One particle shifted: the groove's disk lifted needs no force (a rattler: used, with
+# F_crit 0); pushed down it would enter the fixed supports, which is blocked, not measured.
+# On the small pile, --shift-down P answers as --top does for the same particle.
+"$unjam" perturb "$work/vg.unjam" --shift-up 2 --json --threads 1 -o "$work/up" >"$work/up.json" 2>/dev/null || fail "--shift-up: exit $?"
+"$unjam" perturb "$work/vg.unjam" --shift-down 2 --json --threads 1 -o "$work/down" >"$work/down.json" 2>/dev/null || fail "--shift-down: exit $?"
+/usr/bin/python3 - "$work/up.json" "$work/up/perturbations.csv" "$work/down.json" <<'PY' || fail "one shift in the groove"
+import csv, json, sys
+up = json.load(open(sys.argv[1]))
+assert up["selection"] == "shift-up 2" and up["perturbations"] == 1 and up["rattlers"] == 1, up
+(r,) = list(csv.DictReader(open(sys.argv[2])))
+assert r["kind"] == "shift" and r["i"] == "2" and r["status"] == "ok" and float(r["f_crit"]) == 0.0 and r["rattler"] == "1", r
+down = json.load(open(sys.argv[3]))
+assert down["blocked"] == 1 and down["used"] == 0, down
+PY
+"$unjam" perturb "$src/problems/gravity-n100-mu0.5.unjam" --top --threads 1 -o "$work/top" >/dev/null 2>&1 || fail "--top on the small pile: exit $?"
+particle=$(awk -F, 'NR == 2 { print $3 }' "$work/top/perturbations.csv")
+"$unjam" perturb "$src/problems/gravity-n100-mu0.5.unjam" --shift-down "$particle" --threads 1 -o "$work/one" >/dev/null 2>&1 \
+  || fail "--shift-down $particle on the small pile: exit $?"
+# The same row but for the time it took (column 25, seconds).
+cmp -s <(awk -F, 'NR == 2' "$work/top/perturbations.csv" | cut -d, -f1-24,26) <(awk -F, 'NR == 2' "$work/one/perturbations.csv" | cut -d, -f1-24,26) \
+  || fail "--shift-down $particle differs from the same particle's --top row"
+
 # Bad input: no selection, two selections, a contact that does not exist, no forces, a bad
 # mode; none leaves an output directory behind.
 check() {  # expected-exit description args...
@@ -155,6 +177,11 @@ check 2 "no selection" "$work/vg.unjam"
 check 2 "two selections" "$work/vg.unjam" --all --top
 check 2 "--contact 5" "$work/vg.unjam" --contact 5
 check 2 "--top without a pile" "$work/vg.unjam" --top
+check 2 "--shift-down of a fixed particle" "$work/vg.unjam" --shift-down 0
+grep -q -- "--shift-down 0: particle 0 is fixed" "$work/err" || fail "the error does not name the option: $(cat "$work/err")"
+check 2 "--shift-up of a particle that does not exist" "$work/vg.unjam" --shift-up 3
+check 2 "--shift-up with --top" "$work/vg.unjam" --shift-up 2 --top
+check 2 "--lemke-row-pivots -1" "$work/vg.unjam" --all --lemke-row-pivots -1
 check 2 "--mode bogus" "$work/vg.unjam" --all --mode bogus
 check 2 "--gap -1" "$work/vg.unjam" --all --gap -1
 check 1 "no forces" "$work/bare.unjam" --all

@@ -156,11 +156,11 @@ TEST(Perturbation, TheFallbackSolvesWhatTheFirstBackendLeaves) {
   EXPECT_NEAR(r.fcrit_10xi, r.f_crit, 1e-3 * base.mean_contact_force);
 }
 
-TEST(Perturbation, TheFallbackIsIpoptOnlyWhereAutoPicksLemke) {
+TEST(Perturbation, TheAutoFallbackIsIpoptAfterLemkeAndLemkeAfterNewton) {
   const Scene frictional = testing::VGroove(1.2, 0.5), frictionless = testing::VGroove(1.2, 0.0);
   PerturbationOptions o;  // backend and fallback "auto"
   EXPECT_EQ(PerturbationFallback(o, frictional), "ipopt");
-  EXPECT_EQ(PerturbationFallback(o, frictionless), "");
+  EXPECT_EQ(PerturbationFallback(o, frictionless), "lemke");
   o.backend = "lemke";  // a named backend is not second-guessed
   EXPECT_EQ(PerturbationFallback(o, frictional), "");
   o.fallback = "newton";
@@ -194,6 +194,45 @@ TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
   lift.i = 1;
   lift.direction = Vec2(0.0, 1.0);
   EXPECT_NE(Perturb(base, lift, o).status, "blocked");
+}
+
+// The top disk of the column lifted by ξ leaves its only contact: it needs no force (a
+// rattler, by the bottom shift's definition). From the static forces newton crawls along
+// the column's self-stress (the contact keeps the disk's weight to within ξ) and leaves the
+// step unresolved; the auto fallback, lemke, solves it exactly.
+TEST(Perturbation, LiftingALoneDiskNeedsNoForce) {
+  const Scene scene = Column();
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const PerturbationResult r = Perturb(base, ParticleShift(base, 2, Vec2(0.0, 1.0)), o);
+  ASSERT_EQ(r.status, "ok") << r.solve.message;
+  EXPECT_EQ(r.f_crit, 0.0);
+  EXPECT_FALSE(std::signbit(r.f_crit));
+  EXPECT_EQ(r.solve.backend, "lemke") << r.solve.message;
+  EXPECT_LT(r.displacement[1].norm(), 1e-3 * o.gap);  // the disk below stays
+  const EnsembleOptions ensemble;
+  EXPECT_TRUE(Reduce(base, r, MakeLayout(base, ensemble, o.gap), ensemble).rattler);
+  o.fallback = "none";
+  EXPECT_EQ(Perturb(base, ParticleShift(base, 2, Vec2(0.0, 1.0)), o).status, "not-converged");
+}
+
+// A disk on two fixed supports (nothing else moves): lifting it needs no force and its
+// response (nothing moves but the disk) is linear; pushing it down would drive it into
+// the fixed disks, which the step cannot stop, so it is blocked before any solve.
+TEST(Perturbation, ShiftingADiskOnFixedSupports) {
+  const Scene scene = VGroove(1.2);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const PerturbationResult up = Perturb(base, ParticleShift(base, 2, Vec2(0.0, 1.0)), o);
+  EXPECT_EQ(up.status, "ok") << up.solve.message;
+  EXPECT_EQ(up.f_crit, 0.0);
+  EXPECT_EQ(up.linearity_misfit, 0.0);
+  const PerturbationResult down = Perturb(base, ParticleShift(base, 2, Vec2(0.0, -1.0)), o);
+  EXPECT_EQ(down.status, "blocked");
+  EXPECT_TRUE(std::isnan(down.f_crit));
+  EXPECT_NE(down.solve.message.find("neither of which can give way"), std::string::npos) << down.solve.message;
+  EXPECT_THROW(ParticleShift(base, 0, Vec2(0.0, 1.0)), std::invalid_argument);  // fixed
+  EXPECT_THROW(ParticleShift(base, 3, Vec2(0.0, 1.0)), std::invalid_argument);  // no such particle
 }
 
 TEST(Perturbation, ResultsDoNotDependOnTheThreadCount) {

@@ -24,9 +24,14 @@ struct AssembledProblem {
   std::vector<int> body_of_particle;  // −1: no degrees of freedom (fixed or prescribed)
   std::vector<int> particle_of_body;
   std::vector<int> source_contact;    // problem contact k is contacts[source_contact[k]]
+  // Contacts left out (both sides without degrees of freedom) whose constraint the known
+  // motion violates within the step: no impulse can change it (e.g. a prescribed particle
+  // pushed into a fixed one penetrates it, whatever is solved).
+  std::vector<int> violated_immovable;  // indices into contacts
 };
 
-// Contacts between two sides without degrees of freedom are left out (nothing can move).
+// Contacts between two sides without degrees of freedom are left out (nothing can move);
+// those whose constraint the known motion violates are listed (violated_immovable).
 // Prescribed gaps (scene.effects.prescribed_gaps) turn their contact bilateral; the contact
 // must be in `contacts` (see EnsurePrescribedContacts).
 AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>& contacts,

@@ -189,6 +189,9 @@ std::vector<PerturbationTarget> SampleTargets(std::vector<PerturbationTarget> al
 // shifted down) or the lowest (bottom, shifted up).
 std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base);
 std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base);
+// One particle shifted along a unit `direction` (any packing; std::invalid_argument for a
+// particle that does not exist or is fixed, naming it).
+PerturbationTarget ParticleShift(const PerturbationBase& base, int particle, Vec2 direction);
 // F_y of particle p in the static state: the sum of the positive vertical components of the
 // contact forces on it (a shift's reference force).
 double EffectiveWeightOf(const PerturbationBase& base, int p);

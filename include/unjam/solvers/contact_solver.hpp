@@ -88,6 +88,10 @@ struct SolverOptions {
   // lemke: the velocity scale of the answer, which sizes the perturbed runs' perturbation
   // (lemke.cpp); 0: the largest |velocity offset| of the problem. A perturbation sets ξ/Δt.
   double lemke_velocity_scale = 0.0;
+  // lemke: the pivots per complementarity row that each of its runs may take before the
+  // next run is tried (all runs together stay within max_iterations); 0: 20, and 100 in
+  // the rate form (lemke.cpp).
+  int lemke_pivots_per_row = 0;
 };
 // Throws std::invalid_argument naming the option, the value and the rule.
 void Validate(const SolverOptions& options);
