@@ -89,8 +89,8 @@ int RunSolve(const SolveFlags& flags) {
     if (flags.forces) PrintForces(s);
   }
   if (!s.report.converged()) {
-    std::fprintf(stderr, "unjam solve: the solver did not converge (%s, residual %.3e > tolerance %.3e)\n",
-                 ToString(s.report.status), s.report.residual, options.solver.tolerance);
+    std::fprintf(stderr, "unjam solve: the solver did not converge (%s, residual %.3e, tolerance %.3e): %s\n",
+                 ToString(s.report.status), s.report.residual, options.solver.tolerance, s.report.message.c_str());
     if (flags.solver.require_converged) return kNotConverged;
   }
   return kOk;

@@ -156,6 +156,12 @@ AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>&
   return out;
 }
 
+std::string DescribeImmovableViolation(const Contact& c) {
+  return "the known motions close the contact of particle " + std::to_string(c.i) + " and " +
+         (c.WithWall() ? std::string("a wall") : "particle " + std::to_string(c.j)) +
+         ", neither of which can give way (the step penetrates there)";
+}
+
 void EnsurePrescribedContacts(const Scene& scene, std::vector<Contact>& contacts) {
   const int n = static_cast<int>(scene.particles.size());
   for (const PrescribedGap& g : scene.effects.prescribed_gaps) {

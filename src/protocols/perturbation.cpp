@@ -392,9 +392,7 @@ KinematicAdmissibility ImmovableViolation(const Contact& c) {
   KinematicAdmissibility k;
   k.decided = true;
   k.admissible = false;
-  k.message = "the perturbation closes the contact of particle " + std::to_string(c.i) + " and " +
-              (c.WithWall() ? std::string("a wall") : "particle " + std::to_string(c.j)) +
-              ", neither of which can give way (the step would penetrate there)";
+  k.message = DescribeImmovableViolation(c);
   return k;
 }
 

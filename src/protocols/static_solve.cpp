@@ -105,6 +105,11 @@ StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const Static
   SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver);
   if (options.nearest_member) SelectNearestMember(p, options, result);
   out.report = result.report;
+  if (!assembled.violated_immovable.empty()) {  // no solver can keep that contact closed
+    out.report.status = SolveStatus::kNumericalFailure;
+    const std::string solver = out.report.message.empty() ? "" : "; the solver: " + out.report.message;
+    out.report.message = DescribeImmovableViolation(out.contacts[assembled.violated_immovable.front()]) + solver;
+  }
   out.forces.assign(out.contacts.size(), Eigen::Vector2d::Zero());
   const int stride = p.UnknownsPerContact();
   for (int k = 0; k < p.NumContacts(); ++k) {

@@ -54,6 +54,12 @@ expect_code 0 "solve with too few iterations" "$unjam" solve "$work/stack.unjam"
 grep -q "did not converge" "$work/err" || fail "non-convergence not reported"
 expect_code 3 "--require-converged" "$unjam" solve "$work/stack.unjam" --max-iter 0 --require-converged
 
+# A prescribed motion that drives the lower disk into the floor: no impulse can stop it (both
+# sides have known motions), which is reported, not solved around.
+sed 's/^particles 2/prescribed-motion 0 0 -0.1 0\nparticles 2/' "$work/stack.unjam" >"$work/pushed.unjam"
+expect_code 3 "solve a disk pushed into the floor" "$unjam" solve "$work/pushed.unjam" --require-converged
+grep -q "particle 0 and a wall, neither of which can give way" "$work/err" || fail "the penetration is not reported: $(cat "$work/err")"
+
 # Bad options: usage errors (2) naming the option.
 expect_code 2 "unknown option" "$unjam" solve "$work/stack.unjam" --frobnicate
 grep -q "frobnicate" "$work/err" || fail "unknown option not named"

@@ -2,6 +2,7 @@
 // terms of the contact problem. Effects the scene does not declare add nothing.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "unjam/contacts/contact.hpp"
@@ -36,6 +37,9 @@ struct AssembledProblem {
 // must be in `contacts` (see EnsurePrescribedContacts).
 AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>& contacts,
                                  const AssemblyOptions& options);
+
+// Why contact c is in violated_immovable, in words naming its particles (or the wall).
+std::string DescribeImmovableViolation(const Contact& c);
 
 // Adds the contacts named by prescribed gaps when detection did not find them (a gap
 // larger than the margin), keeping the order. Throws std::invalid_argument for a
