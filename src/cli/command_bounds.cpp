@@ -19,8 +19,12 @@ void BoundsFlags::Register(CLI::App& a) {
   CLI::Option* contacts_option = a.add_option("--contacts", contacts, "all, or K,K,... (the K-th force-carrying contact in the file's force order)")->capture_default_str();
   CLI::Option* top_option = a.add_flag("--top", top, "instead of contacts, bound the critical force of each top shift of a pile (the particles `unjam perturb --top` pushes down): min and max of F_crit over the admissible networks");
   CLI::Option* bottom_option = a.add_flag("--bottom", bottom, "the same for the bottom shifts (`unjam perturb --bottom`, pushed up)");
-  top_option->excludes(bottom_option)->excludes(contacts_option);
-  bottom_option->excludes(contacts_option);
+  CLI::Option* down_option = a.add_option("--shift-down", shift_down, "the same for particle P alone, pushed down (`unjam perturb --shift-down P`)");
+  CLI::Option* up_option = a.add_option("--shift-up", shift_up, "the same for particle P alone, pushed up (`unjam perturb --shift-up P`)");
+  const std::vector<CLI::Option*> selections = {contacts_option, top_option, bottom_option, down_option, up_option};
+  for (std::size_t a_ = 0; a_ < selections.size(); ++a_) {
+    for (std::size_t b_ = a_ + 1; b_ < selections.size(); ++b_) selections[a_]->excludes(selections[b_]);
+  }
   a.add_option("--lp", lp, "linear-program backend: clp (simplex, warm starts) or ipopt (interior point)")->capture_default_str();
   a.add_flag("--cold", cold, "solve every LP from scratch (no warm start; for comparison)");
   a.add_flag("--compare-perturb", compare_perturb, "also open each contact (or make each shift) with unjam perturb and compare F_crit with the LP interval");
@@ -160,7 +164,7 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
 }  // namespace
 
 int RunBounds(const BoundsFlags& f) {
-  if (f.top || f.bottom) return RunShiftBounds(f);
+  if (f.Shifts()) return RunShiftBounds(f);
   const auto start = Clock::now();
   const LpBackend lp = LpBackendFromString(f.lp);
   const EquilibriumSystemOptions so = f.SystemOptions();

@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
+
 #include "cli_common.hpp"
 #include "unjam/indeterminacy/equilibrium_system.hpp"
 
@@ -17,6 +19,9 @@ struct BoundsFlags {
   std::string contacts = "all";
   bool top = false;     // particle shifts instead of contacts (RunShiftBounds)
   bool bottom = false;
+  std::optional<int> shift_down;  // one particle's shift (RunShiftBounds)
+  std::optional<int> shift_up;
+  bool Shifts() const { return top || bottom || shift_down || shift_up; }
   std::string lp = "clp";
   bool cold = false;
   bool compare_perturb = false;
@@ -33,7 +38,8 @@ struct BoundsFlags {
 
 int RunBounds(const BoundsFlags& flags);
 
-// `--top` / `--bottom`: bounds of the shifts' critical forces (command_bounds_shifts.cpp).
+// `--top`, `--bottom`, `--shift-down P`, `--shift-up P`: bounds of the shifts' critical forces
+// (command_bounds_shifts.cpp).
 int RunShiftBounds(const BoundsFlags& flags);
 
 }  // namespace unjam::cli

@@ -1,4 +1,4 @@
-// `unjam bounds FILE --top|--bottom [--compare-perturb]`: the interval of each particle
+// `unjam bounds FILE (--top | --bottom | --shift-down P | --shift-up P) [--compare-perturb]`: the interval of each particle
 // shift's critical force over the admissible networks (shift_bounds.hpp), beside the stored
 // network's value and, on request, the F_crit that `unjam perturb` finds.
 #include <algorithm>
@@ -112,18 +112,40 @@ Means Summarise(const ShiftBoundsReport& r, const std::vector<double>& f_y, doub
 
 nlohmann::json MeanOrNull(const Means& m, double value) { return m.bounded > 0 ? NumberOrNull(value) : nlohmann::json(nullptr); }
 
+// The shifts the flags ask for, and how the summary names them.
+struct ShiftSelection {
+  std::vector<PerturbationTarget> targets;
+  std::string side;         // JSON "side": top, bottom, down or up
+  std::string description;  // the summary's line
+};
+
+ShiftSelection SelectShifts(const BoundsFlags& f, const PerturbationBase& base) {
+  if (f.top) return {TopTargets(base), "top", "top (pushed down)"};
+  if (f.bottom) return {BottomTargets(base), "bottom", "bottom (pushed up)"};
+  const bool down = f.shift_down.has_value();
+  const int particle = down ? *f.shift_down : *f.shift_up;
+  const std::string option = down ? "--shift-down" : "--shift-up";
+  try {
+    return {{ParticleShift(base, particle, Vec2(0.0, down ? -1.0 : 1.0))}, down ? "down" : "up",
+            "of particle " + std::to_string(particle) + (down ? " (pushed down)" : " (pushed up)")};
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(option + " " + std::to_string(particle) + ": " + e.what());
+  }
+}
+
 }  // namespace
 
 int RunShiftBounds(const BoundsFlags& f) {
   const auto start = Clock::now();
-  if (LpBackendFromString(f.lp) != LpBackend::kClp) throw std::invalid_argument("--lp: shift bounds (--top, --bottom) use clp only");
+  if (LpBackendFromString(f.lp) != LpBackend::kClp) throw std::invalid_argument("--lp: shift bounds (--top, --bottom, --shift-down, --shift-up) use clp only");
   const EquilibriumSystemOptions so = f.SystemOptions();
   const Scene scene = ReadPacking(f.file);
   if (scene.forces.empty()) {
     throw InputError(f.file, 0, "stores no static forces, from which the shifts are chosen: run `unjam solve " + f.file + " -o FILE` first");
   }
   const PerturbationBase base = PreparePerturbations(scene, PerturbationOptions{});
-  const std::vector<PerturbationTarget> targets = f.top ? TopTargets(base) : BottomTargets(base);
+  const ShiftSelection selection = SelectShifts(f, base);
+  const std::vector<PerturbationTarget>& targets = selection.targets;
   const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
   std::vector<ShiftTarget> shifts;
   std::vector<double> f_y;
@@ -142,7 +164,7 @@ int RunShiftBounds(const BoundsFlags& f) {
 
   const Means m = Summarise(report, f_y, EnsembleOptions{}.rattler_force * base.mean_contact_force);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  nlohmann::json out = {{"file", f.file}, {"shifts", shifts.size()}, {"side", f.top ? "top" : "bottom"},
+  nlohmann::json out = {{"file", f.file}, {"shifts", shifts.size()}, {"side", selection.side},
                         {"feasible", report.feasible}, {"message", report.message},
                         {"bounded", m.bounded}, {"no_lower_bound", m.no_lower_bound}, {"no_upper_bound", m.no_upper_bound}, {"failed", m.failed}, {"need_no_force", m.need_no_force},
                         {"mean_fy", MeanOrNull(m, m.f_y)}, {"mean_fstatic", MeanOrNull(m, m.f_static)},
@@ -161,7 +183,7 @@ int RunShiftBounds(const BoundsFlags& f) {
   if (f.json) {
     std::printf("%s\n", out.dump().c_str());
   } else {
-    std::printf("shifts             %zu %s shifts\n", shifts.size(), f.top ? "top (pushed down)" : "bottom (pushed up)");
+    std::printf("shifts             %zu %s\n", shifts.size(), selection.description.c_str());
     std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
     std::printf("bounded            %d of %zu (no upper bound, a network resists any push: %d; no lower bound: %d; failed: %d)\n",
                 m.bounded, shifts.size(), m.no_upper_bound, m.no_lower_bound, m.failed);

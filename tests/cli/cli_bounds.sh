@@ -100,6 +100,16 @@ b, t = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
 assert b["shifts"] == 1 and b["bounded"] == 1 and b["need_no_force"] == 1 and b["mean_max"] == 0, b
 assert t["shifts"] == 1 and t["no_upper_bound"] == 1 and t["need_no_force"] == 0, t
 PY
+# One shift alone: the same row as its --top row.
+"$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top -o "$work/top.csv" >/dev/null || fail "bounds --top, small pile: exit $?"
+particle=$(awk -F, 'NR == 2 { print $1 }' "$work/top.csv")
+"$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --shift-down "$particle" --json -o "$work/one.csv" >"$work/one.json" \
+  || fail "bounds --shift-down $particle: exit $?"
+[ "$(sed -n 2p "$work/top.csv")" = "$(sed -n 2p "$work/one.csv")" ] || fail "--shift-down $particle differs from its --top row"
+grep -q '"side":"down"' "$work/one.json" || fail "bounds --shift-down: side not named: $(cat "$work/one.json")"
+expect_code 2 "--shift-down of a fixed particle" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --shift-down 0
+grep -q -- "--shift-down 0: particle 0 is fixed" "$work/err" || fail "the error does not name the option: $(cat "$work/err")"
+expect_code 2 "--shift-up with --top" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --shift-up 92 --top
 expect_code 2 "--top on a packing without gravity" "$unjam" bounds "$src/problems/pressure-n500-mu0.5.unjam" --top
 expect_code 2 "--top with --contacts" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --contacts 1
 expect_code 2 "--top with --bottom" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --bottom
