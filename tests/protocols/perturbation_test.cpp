@@ -1,7 +1,8 @@
 // Perturbations with known answers: a disk in a frictionless V-groove (the opened contact
 // carries its static force, the disk slides along the other support), a column of disks
-// (lifting a disk lifts the one above it), and the frictionless bundled packing (unique
-// forces: every critical force equals the contact force).
+// (lifting a disk lifts the one above it; in a channel one diameter wide, k of them), and
+// the frictionless bundled packing (unique forces: every critical force equals the contact
+// force).
 #include <cmath>
 #include <numbers>
 
@@ -214,6 +215,34 @@ TEST(Perturbation, LiftingALoneDiskNeedsNoForce) {
   EXPECT_TRUE(Reduce(base, r, MakeLayout(base, ensemble, o.gap), ensemble).rattler);
   o.fallback = "none";
   EXPECT_EQ(Perturb(base, ParticleShift(base, 2, Vec2(0.0, 1.0)), o).status, "not-converged");
+}
+
+// k equal disks (radius 1/2, mass π/4) stacked on a floor in a frictionless channel one
+// diameter wide: each touches both side walls. Lifting the lowest disk by ξ lifts the k−1
+// above it, so F_crit is their weight plus the inertial part of moving them by ξ in one
+// step, (k−1) m g (1 + ξ/(g Δt²)); for k = 1 it needs no force. Pushing the top disk down is
+// blocked: by the kinematic LP above the floor, by the known motions alone for k = 1 (the
+// floor cannot give way). Sliding along the side walls is free.
+TEST(Perturbation, AColumnInAChannelOneDiameterWide) {
+  for (const int k : {1, 3, 5}) {
+    Scene scene;
+    scene.cell.size = Vec2(10.0, k + 1.0);
+    scene.cell.walls = {testing::Floor(), Wall{Vec2(4.5, 0.0), Vec2(1.0, 0.0)}, Wall{Vec2(5.5, 0.0), Vec2(-1.0, 0.0)}};
+    scene.effects.gravity = Vec2(0.0, -1.0);
+    for (int i = 0; i < k; ++i) scene.particles.push_back(Disk(5.0, 0.5 + i, 0.5));
+    scene = WithStaticForces(scene);
+    PerturbationOptions o;
+    const PerturbationBase base = PreparePerturbations(scene, o);
+    const double m = scene.particles[0].Mass();
+    const PerturbationResult lift = Perturb(base, ParticleShift(base, 0, Vec2(0.0, 1.0)), o);
+    ASSERT_EQ(lift.status, "ok") << "k = " << k << ": " << lift.solve.message;
+    EXPECT_NEAR(lift.f_crit, (k - 1) * m * (1.0 + o.gap / (o.dt * o.dt)), 1e-12 * k) << "k = " << k;
+    EXPECT_NEAR(lift.f_reference, k * m, 1e-10 * k) << "k = " << k;  // F_y: the floor carries the column
+    for (int i = 1; i < k; ++i) EXPECT_LT((lift.displacement[i] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap) << i;
+    const PerturbationResult push = Perturb(base, ParticleShift(base, k - 1, Vec2(0.0, -1.0)), o);
+    EXPECT_EQ(push.status, "blocked") << "k = " << k << ": " << push.f_crit;
+    EXPECT_EQ(push.solve.backend, k == 1 ? "known motion" : "kinematic LP") << "k = " << k;
+  }
 }
 
 // A disk on two fixed supports (nothing else moves): lifting it needs no force and its
