@@ -22,8 +22,8 @@ void BoundsFlags::Register(CLI::App& a) {
   CLI::Option* down_option = a.add_option("--shift-down", shift_down, "the same for particle P alone, pushed down (`unjam perturb --shift-down P`)");
   CLI::Option* up_option = a.add_option("--shift-up", shift_up, "the same for particle P alone, pushed up (`unjam perturb --shift-up P`)");
   const std::vector<CLI::Option*> selections = {contacts_option, top_option, bottom_option, down_option, up_option};
-  for (std::size_t a_ = 0; a_ < selections.size(); ++a_) {
-    for (std::size_t b_ = a_ + 1; b_ < selections.size(); ++b_) selections[a_]->excludes(selections[b_]);
+  for (std::size_t i = 0; i < selections.size(); ++i) {
+    for (std::size_t j = i + 1; j < selections.size(); ++j) selections[i]->excludes(selections[j]);
   }
   a.add_option("--lp", lp, "linear-program backend: clp (simplex, warm starts) or ipopt (interior point)")->capture_default_str();
   a.add_flag("--cold", cold, "solve every LP from scratch (no warm start; for comparison)");

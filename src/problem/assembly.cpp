@@ -112,8 +112,8 @@ ProblemContact MakeProblemContact(const Scene& scene, const Contact& c, const As
 
 // Whether the known motions of a contact's two sides (fixed, prescribed or a wall) violate
 // its constraint within the step (close it beyond its gap, or move a held gap): the normal
-// velocity they give it is its bias, the one it needs its target (MakeProblemContact). `out`: the problem so far, in which
-// neither side has degrees of freedom.
+// velocity they give it is its bias, the one it needs its target (MakeProblemContact).
+// `out`: the problem so far, in which neither side has degrees of freedom.
 bool ViolatesImmovable(const Scene& scene, const Contact& c, const AssembledProblem& out, const AssemblyOptions& options) {
   const ProblemContact pc = MakeProblemContact(scene, c, out, options);
   const double given = pc.bias.x();
