@@ -415,7 +415,10 @@ class Lemke {
   std::uint64_t basis_hash_ = 0;  // of the bases after z₀ entered (the start's is not needed)
   // Visits per basis. In floating point a path may pass a basis twice and then leave it
   // another way (its values differ by round-off, so the ties fall differently), and go
-  // on to a solution; kVisitsOfACycle visits are taken as a cycle.
+  // on to a solution; kVisitsOfACycle visits are taken as a cycle. Measured (2026-11-26):
+  // one path of the 400-disk pile's top shifts passed a basis 19 times and then solved the
+  // step, so fewer would cost answers; and a fewer would save little, since the cycling
+  // paths there were detected 80–5 000 pivots after their first repeat, of 11 000–22 000.
   static constexpr int kVisitsOfACycle = 20;
   std::unordered_map<std::uint64_t, int> visits_;
   std::vector<int> basic_;      // the variable basic at each position
