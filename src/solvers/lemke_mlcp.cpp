@@ -417,7 +417,7 @@ class Lemke {
   // another way (its values differ by round-off, so the ties fall differently), and go
   // on to a solution; kVisitsOfACycle visits are taken as a cycle. Measured (2026-11-26):
   // one path of the 400-disk pile's top shifts passed a basis 19 times and then solved the
-  // step, so fewer would cost answers; and a fewer would save little, since the cycling
+  // step, so fewer would cost answers; and fewer would save little, since the cycling
   // paths there were detected 80–5 000 pivots after their first repeat, of 11 000–22 000.
   static constexpr int kVisitsOfACycle = 20;
   std::unordered_map<std::uint64_t, int> visits_;
