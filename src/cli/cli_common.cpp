@@ -27,6 +27,8 @@ void SolverFlags::Register(CLI::App& app) {
                  "lemke: pivots per complementarity row that each of its runs may take before the next is tried (0: 20, and 100 in the rate form)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
+  app.add_flag("--lemke-box-first", options.lemke_box_rate_first,
+               "lemke, perturbation steps with friction: try the box-form path in the rate form before the other paths (on tall piles those cycle first)");
   app.add_flag("--require-converged", require_converged, "exit with code 3 if the solver did not converge");
 }
 

@@ -148,6 +148,7 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   if (o.nearest_member) header["member"] = "nearest";
   // Only when not lemke's own bounds, for the same reason.
   if (o.solver.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.solver.lemke_pivots_per_row;
+  if (o.solver.lemke_box_rate_first) header["lemke_box_first"] = true;
   // Only for a backend whose answers have changed, for the same reason.
   for (const std::string& name : {o.backend, o.fallback}) {
     if (name == "none") continue;

@@ -317,6 +317,10 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // per row on 4 of the first 6, where 20 stopped it, and reached 100 on the other 2
   // (--max-iter must allow it: the default 100 000 pivots do not). A user may set another
   // bound for every run (SolverOptions::lemke_pivots_per_row, --lemke-row-pivots).
+  // On those piles the plain and the slip-speed rate paths cycle first, at a quarter to a
+  // third of the pivots; SolverOptions::lemke_box_rate_first (--lemke-box-first) tries the
+  // box-form rate path first. Every path starts from zero, so where the paths before it
+  // cycle the answer is the same; where one of them solves, it may be another member.
   // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
   const bool frictional = HasFriction(k);
   Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
@@ -357,6 +361,12 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
                              {1e-16, "1e-16", false, 1e-2, ConeForm::kShiftedBox}});
   }
   if (rate_form) runs.push_back({1e-16, "1e-16", false, 1e-2, ConeForm::kSlipSpeed, false, true});
+  if (o.lemke_box_rate_first && rate_form && frictional) {
+    // The box-form path in the rate form first, after the given basis and the warm start.
+    const auto box_rate = std::find_if(runs.begin(), runs.end(), [](const Run& r) { return r.rate && r.form == ConeForm::kShiftedBox; });
+    const auto first_cold = std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.basis_only && !r.warm; });
+    std::rotate(first_cold, box_rate, box_rate + 1);
+  }
   std::optional<Posed> rate_slip, rate_box;  // the rate form, posed when its first run comes
   auto posed_for = [&](const Run& run) -> Posed& {
     const bool is_box = run.form == ConeForm::kShiftedBox;

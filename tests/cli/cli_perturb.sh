@@ -164,6 +164,15 @@ particle=$(awk -F, 'NR == 2 { print $3 }' "$work/top/perturbations.csv")
 cmp -s <(awk -F, 'NR == 2' "$work/top/perturbations.csv" | cut -d, -f1-24,26) <(awk -F, 'NR == 2' "$work/one/perturbations.csv" | cut -d, -f1-24,26) \
   || fail "--shift-down $particle differs from the same particle's --top row"
 
+# --lemke-box-first: lemke's first path from zero is the box-form one in the rate form, and
+# the records header says so (records without it do not resume with it).
+"$unjam" perturb "$src/problems/gravity-n100-mu0.5.unjam" --shift-down "$particle" --lemke-box-first --threads 1 -o "$work/box" >/dev/null 2>&1 \
+  || fail "--lemke-box-first: exit $?"
+grep -q '"lemke_box_first":true' "$work/box/records.jsonl" || fail "--lemke-box-first not in the records header"
+grep -q '"message":"Lemke: rate form, box form, cold' "$work/box/records.jsonl" || fail "--lemke-box-first: another path came first: $(tail -n 1 "$work/box/records.jsonl" | head -c 300)"
+"$unjam" perturb "$src/problems/gravity-n100-mu0.5.unjam" --shift-down "$particle" --threads 1 -o "$work/box" >/dev/null 2>"$work/box.err"; code=$?
+[ "$code" -eq 2 ] && grep -q "lemke_box_first" "$work/box.err" || fail "records of --lemke-box-first resumed without it: exit $code"
+
 # Bad input: no selection, two selections, a contact that does not exist, no forces, a bad
 # mode; none leaves an output directory behind.
 check() {  # expected-exit description args...

@@ -92,6 +92,9 @@ struct SolverOptions {
   // next run is tried (all runs together stay within max_iterations); 0: 20, and 100 in
   // the rate form (lemke.cpp).
   int lemke_pivots_per_row = 0;
+  // lemke, in the rate form (a perturbation step, lemke_velocity_scale set), on frictional
+  // problems: the box-form path is tried before the plain and slip-speed ones (lemke.cpp).
+  bool lemke_box_rate_first = false;
 };
 // Throws std::invalid_argument naming the option, the value and the rule.
 void Validate(const SolverOptions& options);
