@@ -24,7 +24,7 @@ void SolverFlags::Register(CLI::App& app) {
   app.add_option("--nlopt-eval", options.nlopt_max_evaluations, "nlopt: objective evaluations per convex solve")->capture_default_str();
   app.add_flag("--lemke-warm", options.lemke_warm_start, "lemke (experimental): first follow the homotopy from the warm start (the static forces), then the path from zero");
   app.add_option("--lemke-row-pivots", options.lemke_pivots_per_row,
-                 "lemke: pivots per complementarity row that each of its runs may take before the next is tried (0: 20, and 100 in the rate form)")
+                 "lemke: pivots per complementarity row that each of its runs may take before the next is tried (0: 20, and 200 in the rate form)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
   app.add_flag("--lemke-box-first", options.lemke_box_rate_first,

@@ -312,10 +312,10 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
   // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
   // take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
-  // Runs in the rate form get 100 per row: on the top shifts of the 1600-disk pile
-  // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–98 pivots
-  // per row on 4 of the first 6, where 20 stopped it, and reached 100 on the other 2
-  // (--max-iter must allow it: the default 100 000 pivots do not). A user may set another
+  // Runs in the rate form get 200 per row: on the first 6 top shifts of the 1600-disk pile
+  // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–108 pivots
+  // per row, where 20 stopped it; the bound of 100 that came first left 2 of the 6
+  // unresolved, at 101 and 108 (--max-iter must allow it: the default 100 000 pivots do not). A user may set another
   // bound for every run (SolverOptions::lemke_pivots_per_row, --lemke-row-pivots).
   // On those piles the plain and the slip-speed rate paths cycle first, at a quarter to a
   // third of the pivots; SolverOptions::lemke_box_rate_first (--lemke-box-first) tries the
@@ -382,7 +382,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
     mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation, posed.velocity_unit) : Eigen::VectorXd();
-    const int per_row = o.lemke_pivots_per_row > 0 ? o.lemke_pivots_per_row : run.rate ? 100 : 20;
+    const int per_row = o.lemke_pivots_per_row > 0 ? o.lemke_pivots_per_row : run.rate ? 200 : 20;
     const int per_run = static_cast<int>(std::min<long long>(o.max_iterations, 1LL * per_row * posed.enc.variables + 100));
     const lemke_internal::LemkeResult lemke =
         lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);

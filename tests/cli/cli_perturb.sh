@@ -35,13 +35,18 @@ cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturba
 grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"
 
 # Records of an earlier lemke (its header without the answer revision, as written before
-# the rate form changed which answers it gives) do not resume with today's lemke.
+# the rate form changed which answers it gives, or with an earlier one) do not resume with
+# today's lemke.
 "$unjam" perturb "$work/vg.unjam" --contact 0 --backend lemke --threads 1 -o "$work/lemke" >/dev/null 2>&1 || fail "perturb --backend lemke: exit $?"
-grep -q '"revision_lemke":2' "$work/lemke/records.jsonl" || fail "lemke records without their revision: $(head -n 1 "$work/lemke/records.jsonl")"
-sed -i '1s/,"revision_lemke":2//' "$work/lemke/records.jsonl"
+grep -q '"revision_lemke":3' "$work/lemke/records.jsonl" || fail "lemke records without their revision: $(head -n 1 "$work/lemke/records.jsonl")"
+cp "$work/lemke/records.jsonl" "$work/lemke3.jsonl"
+sed -i '1s/,"revision_lemke":3//' "$work/lemke/records.jsonl"
 "$unjam" perturb "$work/vg.unjam" --contact 0 --backend lemke --threads 1 -o "$work/lemke" >/dev/null 2>"$work/old.err"; code=$?
 [ "$code" -eq 2 ] || fail "records of an earlier lemke: exit $code, expected 2"
 grep -q "revision_lemke" "$work/old.err" || fail "the error does not name the revision: $(cat "$work/old.err")"
+sed '1s/"revision_lemke":3/"revision_lemke":2/' "$work/lemke3.jsonl" >"$work/lemke/records.jsonl"
+"$unjam" perturb "$work/vg.unjam" --contact 0 --backend lemke --threads 1 -o "$work/lemke" >/dev/null 2>"$work/old.err"; code=$?
+[ "$code" -eq 2 ] && grep -q "revision_lemke" "$work/old.err" || fail "records of lemke's revision 2: exit $code, expected 2 naming the revision"
 
 # The small-gap check, on by default: the V-groove's response is linear in xi, so each
 # opening is solved again at 10 xi, kept (status ok) and reported with its F_crit there.

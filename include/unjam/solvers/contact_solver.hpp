@@ -89,7 +89,7 @@ struct SolverOptions {
   // (lemke.cpp); 0: the largest |velocity offset| of the problem. A perturbation sets ξ/Δt.
   double lemke_velocity_scale = 0.0;
   // lemke: the pivots per complementarity row that each of its runs may take before the
-  // next run is tried (all runs together stay within max_iterations); 0: 20, and 100 in
+  // next run is tried (all runs together stay within max_iterations); 0: 20, and 200 in
   // the rate form (lemke.cpp).
   int lemke_pivots_per_row = 0;
   // lemke, in the rate form (a perturbation step, lemke_velocity_scale set), on frictional
