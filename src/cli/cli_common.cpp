@@ -100,4 +100,12 @@ std::string EffectsSummary(const Scene& s) {
   return out.empty() ? "none (frictionless, no load)" : out;
 }
 
+PerturbationTarget ShiftOption(const PerturbationBase& base, bool down, int particle) {
+  try {
+    return ParticleShift(base, particle, Vec2(0.0, down ? -1.0 : 1.0));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string(down ? "--shift-down " : "--shift-up ") + std::to_string(particle) + ": " + e.what());
+  }
+}
+
 }  // namespace unjam::cli

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "unjam/protocols/perturbation.hpp"
 #include "unjam/protocols/static_solve.hpp"
 #include "unjam/scene/scene.hpp"
 #include "unjam/solvers/contact_solver.hpp"
@@ -66,5 +67,9 @@ std::string EffectsSummary(const Scene& scene);
 const char* PeriodicityName(Periodicity p);
 
 int RunInfo(const std::string& path, bool json);
+
+// `--shift-down P` or `--shift-up P` (perturb, bounds): particle P pushed down or up; a
+// particle that does not exist or is fixed is refused naming the option.
+PerturbationTarget ShiftOption(const PerturbationBase& base, bool down, int particle);
 
 }  // namespace unjam::cli

@@ -124,13 +124,8 @@ ShiftSelection SelectShifts(const BoundsFlags& f, const PerturbationBase& base) 
   if (f.bottom) return {BottomTargets(base), "bottom", "bottom (pushed up)"};
   const bool down = f.shift_down.has_value();
   const int particle = down ? *f.shift_down : *f.shift_up;
-  const std::string option = down ? "--shift-down" : "--shift-up";
-  try {
-    return {{ParticleShift(base, particle, Vec2(0.0, down ? -1.0 : 1.0))}, down ? "down" : "up",
-            "of particle " + std::to_string(particle) + (down ? " (pushed down)" : " (pushed up)")};
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(option + " " + std::to_string(particle) + ": " + e.what());
-  }
+  return {{ShiftOption(base, down, particle)}, down ? "down" : "up",
+          "of particle " + std::to_string(particle) + (down ? " (pushed down)" : " (pushed up)")};
 }
 
 }  // namespace

@@ -68,14 +68,6 @@ struct Selection {
   std::string description;
 };
 
-Selection OneShift(const PerturbationBase& base, const std::string& option, int particle, Vec2 direction) {
-  try {
-    return {{ParticleShift(base, particle, direction)}, option.substr(2) + " " + std::to_string(particle)};
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(option + " " + std::to_string(particle) + ": " + e.what());
-  }
-}
-
 Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
   const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.top + f.bottom +
                      f.shift_down.has_value() + f.shift_up.has_value();
@@ -84,8 +76,8 @@ Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
   }
   if (f.top) return {TopTargets(base), "top"};
   if (f.bottom) return {BottomTargets(base), "bottom"};
-  if (f.shift_down) return OneShift(base, "--shift-down", *f.shift_down, Vec2(0.0, -1.0));
-  if (f.shift_up) return OneShift(base, "--shift-up", *f.shift_up, Vec2(0.0, 1.0));
+  if (f.shift_down) return {{ShiftOption(base, true, *f.shift_down)}, "shift-down " + std::to_string(*f.shift_down)};
+  if (f.shift_up) return {{ShiftOption(base, false, *f.shift_up)}, "shift-up " + std::to_string(*f.shift_up)};
   std::vector<PerturbationTarget> contacts = ContactTargets(base);
   if (f.all) return {contacts, "all"};
   if (f.sample) {

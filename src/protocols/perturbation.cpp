@@ -280,15 +280,16 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
 }
 
 // A blocked perturbation: no force is measured (F_crit is NaN) and nothing moves.
-PerturbationResult Blocked(const PerturbationBase& base, const KinematicAdmissibility& kinematics,
-                           PerturbationResult r, Clock::time_point start, const std::string& decided_by = "kinematic LP") {
+// `decided_by` is reported as its backend, `why` as its message.
+PerturbationResult Blocked(const PerturbationBase& base, const std::string& decided_by, const std::string& why,
+                           PerturbationResult r, Clock::time_point start) {
   const std::size_t n = base.scene.particles.size();
   r.f_crit = std::nan("");
   r.displacement.assign(n, Vec2::Zero());
   r.rotation.assign(n, 0.0);
   r.solve.backend = decided_by;
   r.solve.status = SolveStatus::kNumericalFailure;
-  r.solve.message = kinematics.message;
+  r.solve.message = why;
   r.resolved = false;
   r.quasi_static = false;
   r.status = "blocked";
@@ -386,16 +387,6 @@ StaticSolution SolveAndMeasure(const PerturbationBase& base, const Scene& pertur
   return s2;
 }
 
-// Why a step is blocked whose known motion violates contact c between two sides that cannot
-// move (e.g. a particle shifted into a fixed one): no impulse can keep it closed.
-KinematicAdmissibility ImmovableViolation(const Contact& c) {
-  KinematicAdmissibility k;
-  k.decided = true;
-  k.admissible = false;
-  k.message = DescribeImmovableViolation(c);
-  return k;
-}
-
 // The whole measurement at one gap; `continued`: the answer at another gap, whose basis
 // the solve tries first (check_by_continuation; the warm start stays the static forces,
 // from which newton resolves a frictionless response further than from that answer);
@@ -420,12 +411,13 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
   StaticProblem posed = PoseStaticProblem(perturbed, solve);
   if (continued != nullptr) posed.assembled.problem.initial_basis = BasisFor(posed, *continued);
   if (!posed.assembled.violated_immovable.empty()) {
-    return Blocked(base, ImmovableViolation(posed.contacts[posed.assembled.violated_immovable.front()]), std::move(r), start,
-                   "known motion");
+    // A particle shifted into a fixed one: no impulse can keep that contact closed.
+    const Contact& c = posed.contacts[posed.assembled.violated_immovable.front()];
+    return Blocked(base, "known motion", DescribeImmovableViolation(c), std::move(r), start);
   }
   if (!always_admissible) {
     const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
-    if (kinematics.decided && !kinematics.admissible) return Blocked(base, kinematics, std::move(r), start);
+    if (kinematics.decided && !kinematics.admissible) return Blocked(base, "kinematic LP", kinematics.message, std::move(r), start);
   }
   StaticSolution s = SolveAndMeasure(base, perturbed, std::move(posed), solve, options, r);
   if (answer != nullptr) *answer = std::move(s);

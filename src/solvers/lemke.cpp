@@ -315,8 +315,9 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // Runs in the rate form get 200 per row: on the first 6 top shifts of the 1600-disk pile
   // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–108 pivots
   // per row, where 20 stopped it; the bound of 100 that came first left 2 of the 6
-  // unresolved, at 101 and 108 (--max-iter must allow it: the default 100 000 pivots do not). A user may set another
-  // bound for every run (SolverOptions::lemke_pivots_per_row, --lemke-row-pivots).
+  // unresolved, at 101 and 108 (--max-iter must allow it: the default 100 000 pivots do
+  // not). A user may set another bound for every run (SolverOptions::lemke_pivots_per_row,
+  // --lemke-row-pivots).
   // On those piles the plain and the slip-speed rate paths cycle first, at a quarter to a
   // third of the pivots; SolverOptions::lemke_box_rate_first (--lemke-box-first) tries the
   // box-form rate path first. Every path starts from zero, so where the paths before it
