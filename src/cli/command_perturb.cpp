@@ -141,6 +141,10 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // Only when not lemke's own bounds, for the same reason.
   if (o.solver.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.solver.lemke_pivots_per_row;
   if (o.solver.lemke_box_rate_first) header["lemke_box_first"] = true;
+  // Shifts only: records written before the shifted particle's own displacement counted
+  // in d, δ and the fields (all before 2026-11-26) do not resume into these.
+  const bool shift = !s.targets.empty() && s.targets[0].kind == PerturbationTarget::Kind::kParticleShift;
+  if (shift) header["shifted_particle_displaced"] = true;
   // Only for a backend whose answers have changed, for the same reason.
   for (const std::string& name : {o.backend, o.fallback}) {
     if (name == "none") continue;

@@ -239,6 +239,9 @@ TEST(Perturbation, AColumnInAChannelOneDiameterWide) {
     EXPECT_NEAR(lift.f_crit, (k - 1) * m * (1.0 + o.gap / (o.dt * o.dt)), 1e-12 * k) << "k = " << k;
     EXPECT_NEAR(lift.f_reference, k * m, 1e-10 * k) << "k = " << k;  // F_y: the floor carries the column
     for (int i = 1; i < k; ++i) EXPECT_LT((lift.displacement[i] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap) << i;
+    // All k disks move by ξ, the lifted one (at the origin) included: δ = Σ i / k = (k − 1)/2.
+    EXPECT_EQ(lift.displacement[0], Vec2(0.0, o.gap));
+    EXPECT_NEAR(lift.penetration_depth, (k - 1) / 2.0, 1e-3) << "k = " << k;
     const PerturbationResult push = Perturb(base, ParticleShift(base, k - 1, Vec2(0.0, -1.0)), o);
     EXPECT_EQ(push.status, "blocked") << "k = " << k << ": " << push.f_crit;
     EXPECT_EQ(push.solve.backend, k == 1 ? "known motion" : "kinematic LP") << "k = " << k;
