@@ -66,6 +66,7 @@ using Clock = std::chrono::steady_clock;
 struct Selection {
   std::vector<PerturbationTarget> targets;
   std::string description;
+  bool Shifts() const { return !targets.empty() && targets[0].kind == PerturbationTarget::Kind::kParticleShift; }
 };
 
 Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
@@ -143,8 +144,7 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   if (o.solver.lemke_box_rate_first) header["lemke_box_first"] = true;
   // Shifts only: records written before the shifted particle's own displacement counted
   // in d, δ and the fields (all before 2026-11-26) do not resume into these.
-  const bool shift = !s.targets.empty() && s.targets[0].kind == PerturbationTarget::Kind::kParticleShift;
-  if (shift) header["shifted_particle_displaced"] = true;
+  if (s.Shifts()) header["shifted_particle_displaced"] = true;
   // Only for a backend whose answers have changed, for the same reason.
   for (const std::string& name : {o.backend, o.fallback}) {
     if (name == "none") continue;
@@ -275,7 +275,7 @@ nlohmann::json ErrorOrNull(const MeanAndError& m) { return m.count > 1 ? NumberO
 
 nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const PerturbationOptions& o,
                            const PerturbationBase& base, const EnsembleSummary& s, double seconds) {
-  const bool shift = !sel.targets.empty() && sel.targets[0].kind == PerturbationTarget::Kind::kParticleShift;
+  const bool shift = sel.Shifts();
   nlohmann::json j = {
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
       {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend}, {"fallback", o.fallback},

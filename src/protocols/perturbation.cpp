@@ -342,12 +342,7 @@ void Measure(const PerturbationBase& base, const PerturbationOptions& options, c
              const StaticSolution& s, PerturbationResult& r) {
   r.solve = s.report;
   r.f_crit = CriticalForce(r.target, s);
-  r.displacement = s.displacement;
-  // The shifted particle has no velocity unknown (its motion is prescribed), so the
-  // solution leaves it at zero; its displacement is the shift itself.
-  if (r.target.kind == PerturbationTarget::Kind::kParticleShift) {
-    r.displacement[r.target.i] = options.gap * r.target.direction;
-  }
+  r.displacement = s.displacement;  // the shifted particle's included: its shift
   r.rotation = s.rotation;
   r.cell_strain = s.cell_strain;
   r.force_changes = ForceChanges(base, s);

@@ -34,7 +34,10 @@ Eigen::VectorXd StoredForcesGuess(const Scene& scene, const std::vector<Contact>
   }
   return guess;
 }
-void RecordMotion(const AssembledProblem& assembled, const VelocityState& v, double dt,
+// The motion of every particle over the step: the solved bodies', and the known motion of
+// prescribed ones (a shifted particle moves by its shift). Fixed particles stay; the
+// largest speed is the bodies' own.
+void RecordMotion(const Scene& scene, const AssembledProblem& assembled, const VelocityState& v, double dt,
                   StaticSolution& out) {
   const std::size_t n = assembled.body_of_particle.size();
   out.displacement.assign(n, Vec2::Zero());
@@ -44,6 +47,10 @@ void RecordMotion(const AssembledProblem& assembled, const VelocityState& v, dou
     out.displacement[i] = dt * v.body[b].head<2>();
     if (assembled.problem.frictional) out.rotation[i] = dt * v.body[b][2];
     out.max_speed = std::max(out.max_speed, v.body[b].head<2>().norm());
+  }
+  for (const PrescribedMotion& m : scene.effects.prescribed_motion) {
+    out.displacement[m.particle] = dt * m.velocity;
+    if (assembled.problem.frictional) out.rotation[m.particle] = dt * m.spin;
   }
   out.cell_strain = assembled.problem.cell ? dt * v.cell_rate : 0.0;
 }
@@ -120,7 +127,7 @@ StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const Static
     out.basis.assign(out.contacts.size(), 0);
     for (int k = 0; k < p.NumContacts(); ++k) out.basis[assembled.source_contact[k]] = result.basis[k];
   }
-  RecordMotion(assembled, EndVelocityState(p, result.impulses), options.dt, out);
+  RecordMotion(scene, assembled, EndVelocityState(p, result.impulses), options.dt, out);
   out.equilibrium = CheckEquilibrium(rest, out.contacts, out.forces);
   return out;
 }

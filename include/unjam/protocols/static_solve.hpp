@@ -44,8 +44,9 @@ struct StaticSolution {
   SolveReport report;
   EquilibriumReport equilibrium;
   double max_speed = 0.0;               // largest end-of-step particle speed (0 if static)
-  // End-of-step motion over the step, Δt·v and Δt·ω per particle (zero for particles
-  // without degrees of freedom), and the cell strain Δt·λ (0 without a pressure bath).
+  // End-of-step motion over the step, Δt·v and Δt·ω per particle (the known motion for
+  // prescribed particles, zero for fixed ones), and the cell strain Δt·λ (0 without a
+  // pressure bath).
   // For a static state all vanish; under a perturbation they are its response.
   std::vector<Vec2> displacement;
   std::vector<double> rotation;
