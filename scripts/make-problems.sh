@@ -60,5 +60,12 @@ make gravity-n1600-mu1 --protocol gravity --n 1600 --mu 1 --width 100 --seed 1 -
 # (docs/backends.md, "The rate form").
 pack gravity-n200-w8-mu0.1 --protocol gravity --n 200 --width 8 --mu 0.1 --seed 2
 
+# A hard case (2026-11-26), as tall as the 1600-disk piles and a quarter as wide, μ = 1,
+# with today's defaults but for the time step and sweeps of the μ = 1 pile above. One of
+# its grains (206) hangs by friction between two grains above its centre, so that every
+# step from rest has a member in which it falls freely; Lemke's first path ends there on
+# 16 of its 17 top shifts (docs/perturbations.md, "At μ = 1").
+pack gravity-n400-w25-mu1 --protocol gravity --n 400 --width 25 --mu 1 --seed 1 --dt 0.005 --step-iter 2000
+
 # A small pile: quick to load and solve (examples, smoke tests).
 make gravity-n100-mu0.5 --protocol gravity --n 100 --width 15 --mu 0.5 --seed 1 "${pile_then[@]}" --step-iter 500

@@ -43,12 +43,14 @@ def main(records_path, bounds_path, joined_path=None):
         b = bounds.get(particle)
         if b is None:
             sys.exit(f"{bounds_path}: no row for particle {particle} (another pile or side?)")
-        lo, hi = float(b["min"]), float(b["max"])
+        # An empty bound is an unbounded LP (status_min/status_max say so).
+        lo = float(b["min"]) if b["min"] else -math.inf
+        hi = float(b["max"]) if b["max"] else math.inf
         # An unresolved step's F_crit is no answer (docs/perturbations.md): nan here.
         resolved = rec["f_crit"] is not None and rec["status"] != "not-converged"
         f = rec["f_crit"] if resolved else math.nan
         inside = lo - 1e-6 <= f <= hi + 1e-6 if math.isfinite(f) else False
-        where = (f - lo) / (hi - lo) if hi > lo and math.isfinite(f) else math.nan
+        where = (f - lo) / (hi - lo) if hi > lo and math.isfinite(f) and math.isfinite(hi - lo) else math.nan
         rows.append({"index": rec["index"], "particle": particle, "status": rec["status"], "f_crit": f,
                      "fcrit_10xi": rec.get("fcrit_10xi"), "f_y": rec["f_reference"], "lp_min": lo, "lp_max": hi,
                      "inside": inside, "position": where, "delta": rec["penetration_depth"],

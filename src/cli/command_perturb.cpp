@@ -45,6 +45,9 @@ void PerturbFlags::Register(CLI::App& a) {
                "with the same motion pattern nearest the static forces, by a linear program)")
       ->check(CLI::IsMember({"path", "nearest"}))
       ->capture_default_str();
+  a.add_flag("--prefer-quasi-static", prefer_quasi_static,
+             "lemke: where a run ends on a solution in which some grain moves fast enough to make the step dynamic, "
+             "try the remaining runs and report the first quasi-static solution (if none, the first solution)");
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.backend = "auto";  // newton without friction, lemke with it (PerturbationOptions)
   solver.backend_may_be_auto = true;
@@ -105,6 +108,7 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.check_by_continuation = !f.cold_check;
   o.fallback = f.fallback;
   o.nearest_member = f.member == "nearest";
+  o.prefer_quasi_static = f.prefer_quasi_static;
   if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
   return o;
@@ -142,6 +146,7 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // Only when not lemke's own bounds, for the same reason.
   if (o.solver.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.solver.lemke_pivots_per_row;
   if (o.solver.lemke_box_rate_first) header["lemke_box_first"] = true;
+  if (o.prefer_quasi_static) header["prefer_quasi_static"] = true;
   // Shifts only: records written before the shifted particle's own displacement counted
   // in d, δ and the fields (all before 2026-11-26) do not resume into these.
   if (s.Shifts()) header["shifted_particle_displaced"] = true;
@@ -280,7 +285,7 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
       {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend}, {"fallback", o.fallback},
       {"check_linearity", o.check_linearity}, {"check_by_continuation", o.check_linearity && o.check_by_continuation},
-      {"member", o.nearest_member ? "nearest" : "path"}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
+      {"member", o.nearest_member ? "nearest" : "path"}, {"prefer_quasi_static", o.prefer_quasi_static}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
       {"dynamic", s.dynamic}, {"nonlinear", s.nonlinear}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
       {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
       {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},

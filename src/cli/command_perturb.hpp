@@ -32,6 +32,7 @@ struct PerturbFlags {
   bool check_linearity = true;      // --no-check-linearity turns it off
   bool cold_check = false;          // --cold-check: the 10 xi check from zero impulses
   std::string member = "path";
+  bool prefer_quasi_static = false;  // --prefer-quasi-static
   std::string fallback = "auto";    // --fallback: the second backend of an unresolved step
   bool json = false;
   bool quiet = false;

@@ -265,6 +265,17 @@ PerturbationBase PreparePerturbations(const Scene& static_scene, const Perturbat
 }
 
 namespace {
+// The speed above which a grain makes the step dynamic (InertiaRatio above the threshold),
+// for the lightest grain that may move: any faster velocity makes every grain dynamic.
+double DynamicSpeed(const PerturbationBase& base, const PerturbationOptions& options) {
+  double lightest = std::numeric_limits<double>::infinity();
+  for (const Particle& p : base.scene.particles) {
+    if (!p.fixed) lightest = std::min(lightest, p.Mass());
+  }
+  const double force = base.mean_contact_force > 0.0 ? base.mean_contact_force : 1.0;
+  return options.max_inertia_ratio * force * options.dt / lightest;
+}
+
 // The one step of a perturbation: a static solve of the perturbed scene.
 StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationOptions& options) {
   StaticSolveOptions solve;
@@ -275,6 +286,7 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);
   solve.solver.lemke_velocity_scale = options.gap / options.dt;
+  if (options.prefer_quasi_static) solve.solver.lemke_velocity_bound = DynamicSpeed(base, options);
   solve.nearest_member = options.nearest_member;
   return solve;
 }

@@ -273,6 +273,19 @@ bool HasFriction(const MatrixForm& k) {
                      [](const ContactLaw& law) { return law.kind != ConstraintKind::kBilateral && law.mu > 0.0; });
 }
 
+// SolverOptions::lemke_velocity_bound: does the answer move some free variable faster?
+// Says so in the run's account. The step's frictional law may have several solutions, and
+// on a pile at μ = 1 the first path usually ends on one in which a grain held up by
+// friction alone falls freely, while a later run ends on a quasi-static one
+// (docs/perturbations.md, "At μ = 1").
+bool AboveVelocityBound(const MatrixForm& k, const Eigen::VectorXd& impulses, const SolverOptions& o, std::string& history) {
+  if (o.lemke_velocity_bound <= 0.0) return false;
+  const double fastest = (k.v_free + k.g * impulses).cwiseAbs().maxCoeff();
+  if (fastest <= o.lemke_velocity_bound) return false;
+  history += " (a velocity of " + Scientific(fastest) + ", above the bound " + Scientific(o.lemke_velocity_bound) + ": the next run is tried)";
+  return true;
+}
+
 template <class Problem>
 SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
   const auto start = std::chrono::steady_clock::now();
@@ -376,6 +389,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     if (!lazy) lazy = Pose(k, run.form, velocity_scale);
     return *lazy;
   };
+  std::optional<SolveResult> too_fast;  // the first solution above the velocity bound
   for (const Run& run : runs) {
     const bool perturbed = run.perturbation > 0.0;
     Posed& posed = posed_for(run);
@@ -425,7 +439,18 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     if (run.warm) {
       history += " (start: " + std::to_string(lemke.start_support) + " basic, " + std::to_string(lemke.start_dropped) + " moves)";
     }
+    if (report.converged() && AboveVelocityBound(k, result.impulses, o, history)) {
+      if (!too_fast) too_fast = result;
+      result.impulses.resize(0);
+      report.status = SolveStatus::kNumericalFailure;
+      if (pivots >= o.max_iterations) break;
+      continue;
+    }
     if (report.converged() || pivots >= o.max_iterations) break;
+  }
+  if (!report.converged() && too_fast) {
+    history += "; no run's solution within the velocity bound: the first one is kept";
+    result = std::move(*too_fast);
   }
   report.iterations = pivots;
   if (!report.converged() && pivots >= o.max_iterations) report.status = SolveStatus::kIterationLimit;

@@ -79,6 +79,7 @@ void Validate(const SolverOptions& o) {
   if (o.ipopt_max_iterations < 0) Reject("ipopt_max_iterations", o.ipopt_max_iterations, "must be >= 0");
   if (o.nlopt_max_evaluations < 1) Reject("nlopt_max_evaluations", o.nlopt_max_evaluations, "must be >= 1");
   if (!(o.lemke_velocity_scale >= 0.0) || !std::isfinite(o.lemke_velocity_scale)) Reject("lemke_velocity_scale", o.lemke_velocity_scale, "must be a finite number >= 0");
+  if (!(o.lemke_velocity_bound >= 0.0) || !std::isfinite(o.lemke_velocity_bound)) Reject("lemke_velocity_bound", o.lemke_velocity_bound, "must be a finite number >= 0");
   if (o.lemke_pivots_per_row < 0) Reject("lemke_pivots_per_row", o.lemke_pivots_per_row, "must be >= 0");
 }
 

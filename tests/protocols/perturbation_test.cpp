@@ -578,5 +578,43 @@ TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
   EXPECT_EQ(checked, 3);
 }
 
+// A pile at μ = 1 (problems/gravity-n400-w25-mu1: 400 disks 25 wide, as tall as the
+// 1600-disk piles). Its particle 206 hangs by friction between grains 32 and 275, whose
+// contacts are 22–25° above its centre, so that every step from rest also has a solution
+// in which 206 falls freely: no impulse on it, d = (0, −g Δt²) (implicit Euler from rest).
+// On the top shift of particle 143 Lemke's first path ends on that member (the step is
+// "dynamic"). With prefer_quasi_static the runs go on past it, and a later one ends on a
+// quasi-static solution, linear in ξ, whose F_crit lies in the shift's LP interval.
+TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
+  PerturbationOptions o;
+  o.fallback = "none";
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  PerturbationTarget target;
+  for (const PerturbationTarget& t : TopTargets(base)) {
+    if (t.i == 143) target = t;
+  }
+  ASSERT_EQ(target.i, 143);
+
+  const PerturbationResult path = Perturb(base, target, o);
+  ASSERT_TRUE(path.resolved) << path.solve.message;
+  EXPECT_EQ(path.status, "dynamic");
+  const double g_dt2 = 1.0 * o.dt * o.dt;
+  EXPECT_NEAR(path.displacement[206].x(), 0.0, 1e-9 * g_dt2);
+  EXPECT_NEAR(path.displacement[206].y(), -g_dt2, 1e-9 * g_dt2);
+
+  o.prefer_quasi_static = true;
+  const PerturbationResult r = Perturb(base, target, o);
+  const std::string& m = r.solve.message;
+  ASSERT_EQ(r.status, "ok") << m;
+  EXPECT_NE(m.find("above the bound"), std::string::npos) << m;
+  EXPECT_LT(r.solve.residual, 1e-13);
+  EXPECT_LT(r.displacement[206].norm(), 1e3 * o.gap);
+  const ShiftBoundsReport lp = ComputeShiftBounds(BuildEquilibriumSystem(scene), {{target.i, target.direction}}, {});
+  ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
+  EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6);
+  EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6);
+}
+
 }  // namespace
 }  // namespace unjam

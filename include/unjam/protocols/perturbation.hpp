@@ -75,6 +75,12 @@ struct PerturbationOptions {
   // Pick the member of the step's family of solutions nearest the static forces among
   // those with the answer's motion pattern (StaticSolveOptions::nearest_member).
   bool nearest_member = false;
+  // Of the step's solutions, prefer a quasi-static one: lemke's runs go on past a solution
+  // in which some grain moves fast enough to make the step dynamic (max_inertia_ratio, for
+  // the lightest grain), and the first solution below that speed is reported
+  // (SolverOptions::lemke_velocity_bound). Off by default: it costs every run of lemke on
+  // a step that has no quasi-static solution (docs/perturbations.md, "At μ = 1").
+  bool prefer_quasi_static = false;
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
 double DetectionMargin(const PerturbationOptions& options);

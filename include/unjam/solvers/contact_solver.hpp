@@ -95,6 +95,12 @@ struct SolverOptions {
   // lemke, in the rate form (a perturbation step, lemke_velocity_scale set), on frictional
   // problems: the box-form path is tried before the plain and slip-speed ones (lemke.cpp).
   bool lemke_box_rate_first = false;
+  // lemke: a solution in which some free velocity exceeds this bound (in the step's own
+  // units; 0: no bound) is not reported at once. The remaining runs are tried, and the
+  // first solution within the bound is reported; if none comes, the first solution found.
+  // A perturbation sets it to the speed above which its step is dynamic, so that of the
+  // step's solutions a quasi-static one is preferred where a run finds one (lemke.cpp).
+  double lemke_velocity_bound = 0.0;
 };
 // Throws std::invalid_argument naming the option, the value and the rule.
 void Validate(const SolverOptions& options);
