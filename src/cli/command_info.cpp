@@ -3,6 +3,7 @@
 
 #include "cli_common.hpp"
 #include "unjam/analysis/equilibrium.hpp"
+#include "unjam/analysis/hanging_grains.hpp"
 #include "unjam/contacts/contact.hpp"
 #include "unjam/io/packing_file.hpp"
 
@@ -20,6 +21,7 @@ int RunInfo(const std::string& path, bool json) {
   const bool has_forces = !scene.forces.empty();
   const Coordination z = ComputeCoordination(scene, scene.forces);
   const double phi = PackingFraction(scene);
+  const std::vector<int> hanging = HangingGrains(scene, closed);
   if (json) {
     nlohmann::json out = {{"file", path}, {"particles", scene.particles.size()}, {"fixed", fixed},
                           {"cell", {scene.cell.size.x(), scene.cell.size.y()}},
@@ -29,6 +31,7 @@ int RunInfo(const std::string& path, bool json) {
                           {"seed", scene.seed}, {"provenance", scene.provenance}};
     out["coordination"] = has_forces ? nlohmann::json(z.z) : nlohmann::json(nullptr);
     out["rattlers"] = has_forces ? nlohmann::json(z.rattlers) : nlohmann::json(nullptr);
+    out["hanging_grains"] = scene.effects.gravity ? nlohmann::json(hanging) : nlohmann::json(nullptr);
     std::printf("%s\n", out.dump().c_str());
     return kOk;
   }
@@ -44,6 +47,11 @@ int RunInfo(const std::string& path, bool json) {
     std::printf("coordination z    %.4f (rattlers excluded: %d)\n", z.z, z.rattlers);
   } else {
     std::printf("stored forces     none (run `unjam solve` to compute them)\n");
+  }
+  if (scene.effects.gravity) {
+    std::printf("hanging grains    %zu", hanging.size());
+    for (std::size_t k = 0; k < hanging.size() && k < 20; ++k) std::printf("%s%d", k == 0 ? ": " : " ", hanging[k]);
+    std::printf("%s\n", hanging.size() > 20 ? " ..." : "");
   }
   std::printf("seed              %llu\n", static_cast<unsigned long long>(scene.seed));
   if (!scene.provenance.empty()) std::printf("provenance        %s\n", scene.provenance.c_str());
