@@ -146,6 +146,7 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // Only when not lemke's own bounds, for the same reason.
   if (o.solver.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.solver.lemke_pivots_per_row;
   if (o.solver.lemke_box_rate_first) header["lemke_box_first"] = true;
+  if (o.solver.lemke_warm_start) header["lemke_warm"] = true;
   if (o.prefer_quasi_static) header["prefer_quasi_static"] = true;
   // Shifts only: records written before the shifted particle's own displacement counted
   // in d, δ and the fields (all before 2026-11-26) do not resume into these.

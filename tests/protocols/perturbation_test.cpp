@@ -616,5 +616,36 @@ TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
   EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6);
 }
 
+// The same pile's top shift of particle 234: every cold run ends on 206's fall or cycles
+// (docs/perturbations.md, "At μ = 1"), but the warm start's homotopy from the static forces
+// in the rate form (lemke_warm_start) ends on a quasi-static solution, linear in ξ and
+// inside the shift's LP interval.
+TEST(Perturbation, WarmStartInTheRateFormFindsAQuasiStaticShiftNoColdRunFinds) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
+  PerturbationOptions o;
+  o.fallback = "none";
+  o.solver.lemke_warm_start = true;
+  o.prefer_quasi_static = true;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  PerturbationTarget target;
+  for (const PerturbationTarget& t : TopTargets(base)) {
+    if (t.i == 234) target = t;
+  }
+  ASSERT_EQ(target.i, 234);
+  const PerturbationResult r = Perturb(base, target, o);
+  const std::string& m = r.solve.message;
+  ASSERT_EQ(r.status, "ok") << m;
+  EXPECT_EQ(m.rfind("Lemke: rate form, warm, ", 0), 0u) << m;
+  const std::string warm_path = "rate form, warm, ties 1e-14";
+  const std::size_t warm = m.find(warm_path + ": solved");
+  ASSERT_NE(warm, std::string::npos) << m;
+  EXPECT_EQ(m.find(": solved"), warm + warm_path.size()) << m;  // the first solution, no cold run
+  EXPECT_LT(r.solve.residual, 1e-13);
+  const ShiftBoundsReport lp = ComputeShiftBounds(BuildEquilibriumSystem(scene), {{target.i, target.direction}}, {});
+  ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
+  EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6);
+  EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6);
+}
+
 }  // namespace
 }  // namespace unjam
