@@ -339,7 +339,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   // The warm start's homotopy (--lemke-warm) runs in the rate form first where there is
   // one (ties 1e-16, then 1e-14), then in the step's own units: on the 17 top shifts of
   // the μ = 1 pile 25 wide its rate-form paths end quasi-static on 5 (3 of them on no
-  // cold run's path, nearly all at ties 1e-14), in 2 000–8 000 pivots, where in the
+  // cold run's path, all at ties 1e-14), in 1 900–8 100 pivots, where in the
   // step's own units they end on rays or cycles on 15 (docs/perturbations.md, "At μ = 1").
   const bool frictional = HasFriction(k);
   Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
