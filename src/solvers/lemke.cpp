@@ -449,11 +449,10 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
       history += " (start: " + std::to_string(lemke.start_support) + " basic, " + std::to_string(lemke.start_dropped) + " moves)";
     }
     if (report.converged() && AboveVelocityBound(k, result.impulses, o, history)) {
+      // Not the answer: the next run's answer, converged or not, takes its place.
       if (!too_fast) too_fast = result;
       result.impulses.resize(0);
       report.status = SolveStatus::kNumericalFailure;
-      if (pivots >= o.max_iterations) break;
-      continue;
     }
     if (report.converged() || pivots >= o.max_iterations) break;
   }

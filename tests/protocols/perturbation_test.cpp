@@ -546,6 +546,23 @@ TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
   EXPECT_LE(r.f_crit, 0.9519 * (1.0 + 1e-3));
 }
 
+// F_crit of a shift lies in the shift's interval over the admissible force networks
+// (indeterminacy/shift_bounds.hpp), to 1e-6.
+void ExpectInsideTheShiftsLpInterval(const EquilibriumSystem& system, const PerturbationTarget& t, double f_crit) {
+  const ShiftBoundsReport lp = ComputeShiftBounds(system, {{t.i, t.direction}}, {});
+  ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
+  EXPECT_GE(f_crit, lp.bounds[0].min.value - 1e-6) << t.i;
+  EXPECT_LE(f_crit, lp.bounds[0].max.value + 1e-6) << t.i;
+}
+
+// The top shift of `particle` (the highest particle of its bin, pushed down).
+PerturbationTarget TopShiftOf(const PerturbationBase& base, int particle) {
+  for (const PerturbationTarget& t : TopTargets(base)) {
+    if (t.i == particle) return t;
+  }
+  return {};
+}
+
 // The tall narrow pile (problems/gravity-n200-w8-mu0.1: 200 disks 8 wide, μ = 0.1). On
 // the top shifts of particles 170, 24 and 78 Lemke's path from zero impulses in the step's
 // own units cycles or ends on a ray; in the rate form (velocities in units of ξ/Δt,
@@ -570,10 +587,7 @@ TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
     EXPECT_NE(m.compare(plain.size(), 6, "solved"), 0) << m;
     EXPECT_NE(m.find("; rate form, cold, ties 1e-16: solved"), std::string::npos) << m;
     EXPECT_LT(r.solve.residual, 1e-13);
-    const ShiftBoundsReport lp = ComputeShiftBounds(system, {{t.i, t.direction}}, {});
-    ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
-    EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6) << t.i;
-    EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6) << t.i;
+    ExpectInsideTheShiftsLpInterval(system, t, r.f_crit);
   }
   EXPECT_EQ(checked, 3);
 }
@@ -590,10 +604,7 @@ TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
   PerturbationOptions o;
   o.fallback = "none";
   const PerturbationBase base = PreparePerturbations(scene, o);
-  PerturbationTarget target;
-  for (const PerturbationTarget& t : TopTargets(base)) {
-    if (t.i == 143) target = t;
-  }
+  const PerturbationTarget target = TopShiftOf(base, 143);
   ASSERT_EQ(target.i, 143);
 
   const PerturbationResult path = Perturb(base, target, o);
@@ -610,10 +621,7 @@ TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
   EXPECT_NE(m.find("above the bound"), std::string::npos) << m;
   EXPECT_LT(r.solve.residual, 1e-13);
   EXPECT_LT(r.displacement[206].norm(), 1e3 * o.gap);
-  const ShiftBoundsReport lp = ComputeShiftBounds(BuildEquilibriumSystem(scene), {{target.i, target.direction}}, {});
-  ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
-  EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6);
-  EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6);
+  ExpectInsideTheShiftsLpInterval(BuildEquilibriumSystem(scene), target, r.f_crit);
 }
 
 // The same pile's top shift of particle 234: every cold run ends on 206's fall or cycles
@@ -627,10 +635,7 @@ TEST(Perturbation, WarmStartInTheRateFormFindsAQuasiStaticShiftNoColdRunFinds) {
   o.solver.lemke_warm_start = true;
   o.prefer_quasi_static = true;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  PerturbationTarget target;
-  for (const PerturbationTarget& t : TopTargets(base)) {
-    if (t.i == 234) target = t;
-  }
+  const PerturbationTarget target = TopShiftOf(base, 234);
   ASSERT_EQ(target.i, 234);
   const PerturbationResult r = Perturb(base, target, o);
   const std::string& m = r.solve.message;
@@ -641,10 +646,7 @@ TEST(Perturbation, WarmStartInTheRateFormFindsAQuasiStaticShiftNoColdRunFinds) {
   ASSERT_NE(warm, std::string::npos) << m;
   EXPECT_EQ(m.find(": solved"), warm + warm_path.size()) << m;  // the first solution, no cold run
   EXPECT_LT(r.solve.residual, 1e-13);
-  const ShiftBoundsReport lp = ComputeShiftBounds(BuildEquilibriumSystem(scene), {{target.i, target.direction}}, {});
-  ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
-  EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6);
-  EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6);
+  ExpectInsideTheShiftsLpInterval(BuildEquilibriumSystem(scene), target, r.f_crit);
 }
 
 }  // namespace
