@@ -57,7 +57,12 @@ void PerturbFlags::Register(CLI::App& a) {
       ->check(CLI::IsMember({"auto", "none", "nsgs", "newton", "ipopt", "nlopt", "lemke"}))
       ->capture_default_str();
   a.get_option("--tol")->description("the solver tolerance itself (default: set by --response-tol)")->default_str("");
-  a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");
+  auto* output = a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");
+  a.add_option("--time-limit", time_limit,
+               "start no perturbation after S seconds of this run; those started finish, and the results are written "
+               "for all done so far (summary \"complete\": false); rerun the same command to continue")
+      ->check(CLI::NonNegativeNumber)
+      ->needs(output);
   a.add_flag("--json", json, "one JSON object on stdout");
   a.add_flag("--quiet", quiet, "no progress on stderr");
 }
@@ -311,6 +316,7 @@ void PrintSummary(const nlohmann::json& j) {
   std::printf("perturbations      %d (used %d, not converged %d, dynamic %d, nonlinear %d, blocked %d, rattlers %d)\n", j["perturbations"].get<int>(),
               j["used"].get<int>(), j["not_converged"].get<int>(), j["dynamic"].get<int>(), j["nonlinear"].get<int>(), j["blocked"].get<int>(),
               j["rattlers"].get<int>());
+  if (!j["complete"].get<bool>()) std::printf("incomplete         %d of %d targets done\n", j["perturbations"].get<int>(), j["targets"].get<int>());
   std::printf("mode               %s, gap %.3g, dt %.3g, tolerance %.3g (%s)\n", j["mode"].get<std::string>().c_str(),
               j["gap"].get<double>(), j["dt"].get<double>(), j["tolerance"].get<double>(), j["backend"].get<std::string>().c_str());
   std::printf("<F_crit>           %s +- %s\n", num("mean_fcrit").c_str(), num("mean_fcrit_error").c_str());
@@ -359,9 +365,12 @@ int RunPerturb(const PerturbFlags& f) {
     index_of.push_back(k);
   }
   if (!f.quiet && !records.empty()) std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(), selection.targets.size());
-  const int threads = ThreadsFromOption(f.threads);
+  PerturbSchedule schedule;
+  schedule.threads = ThreadsFromOption(f.threads);
+  schedule.as_finished = true;  // each record written as soon as it exists
+  if (f.time_limit) schedule.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
   const int total = static_cast<int>(selection.targets.size());
-  PerturbAll(base, todo, options, threads, [&](int t, const PerturbationResult& r) {
+  PerturbAll(base, todo, options, schedule, [&](int t, const PerturbationResult& r) {
     const int k = index_of[t];
     ReducedResponse record = Reduce(base, r, layout, ensemble);
     if (log.is_open()) {
@@ -382,7 +391,9 @@ int RunPerturb(const PerturbFlags& f) {
   for (const auto& [k, r] : records) ordered.push_back(r);
   const EnsembleSummary summary = Summarize(ordered, layout, ensemble);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  const nlohmann::json out = SummaryJson(f, selection, options, base, summary, seconds);
+  nlohmann::json out = SummaryJson(f, selection, options, base, summary, seconds);
+  out["targets"] = total;
+  out["complete"] = static_cast<int>(records.size()) == total;
   if (!f.output_dir.empty()) {
     WriteFileAtomically(dir / "perturbations.csv", PerturbationsCsv(records));
     WriteFileAtomically(dir / "profile.csv", ProfileCsv(summary));
@@ -393,6 +404,10 @@ int RunPerturb(const PerturbFlags& f) {
   }
   if (f.json) std::printf("%s\n", out.dump().c_str());
   else PrintSummary(out);
+  if (!out["complete"].get<bool>() && !f.quiet) {
+    std::fprintf(stderr, "perturb: stopped at the time limit with %zu of %d done; the same command continues from %s\n",
+                 records.size(), total, (dir / "records.jsonl").string().c_str());
+  }
   const int failed = summary.not_converged + summary.dynamic + summary.nonlinear + summary.blocked;
   if (failed > 0) {
     std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, nonlinear: %d, blocked: %d)\n",

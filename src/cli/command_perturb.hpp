@@ -29,6 +29,7 @@ struct PerturbFlags {
   int threads = 0;                  // 0: all cores
   SolverFlags solver;
   std::string output_dir;
+  std::optional<double> time_limit;  // --time-limit S: start no perturbation after S seconds
   bool check_linearity = true;      // --no-check-linearity turns it off
   bool cold_check = false;          // --cold-check: the 10 xi check from zero impulses
   std::string member = "path";

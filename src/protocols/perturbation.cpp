@@ -1,10 +1,10 @@
 #include "unjam/protocols/perturbation.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <deque>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -567,41 +567,60 @@ std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base) {
 }
 
 void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
-                const PerturbationOptions& options, int threads,
+                const PerturbationOptions& options, const PerturbSchedule& schedule,
                 const std::function<void(int, const PerturbationResult&)>& on_result) {
   const int n = static_cast<int>(targets.size());
-  if (threads <= 1) {  // in order, here, each result reported as soon as it exists
-    for (int k = 0; k < n; ++k) on_result(k, Perturb(base, targets[k], options));
+  auto may_start = [&] { return !schedule.start_before || std::chrono::steady_clock::now() < *schedule.start_before; };
+  if (schedule.threads <= 1) {  // in order, here, each result reported as soon as it exists
+    for (int k = 0; k < n && may_start(); ++k) on_result(k, Perturb(base, targets[k], options));
     return;
   }
-  // Workers take targets in order; this thread reports results in target order as they
-  // arrive and frees each once reported, so only results that finished early are held.
+  // Workers take targets in order until none is left or the budget is spent (`closed`);
+  // this thread reports the results and frees each once reported, so only results that
+  // wait for an earlier one (target order) are held.
   std::vector<std::optional<PerturbationResult>> results(n);
+  std::deque<int> finished;  // results not yet reported, in the order they finished
   std::mutex mutex;
   std::condition_variable ready;
-  std::atomic<int> next{0};
+  int started = 0;
+  bool closed = false;
   std::exception_ptr failure;
   auto work = [&] {
-    for (int k = next++; k < n; k = next++) {
+    for (;;) {
+      int k = 0;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (closed || started == n || !may_start()) {
+          closed = true;
+          ready.notify_all();
+          return;
+        }
+        k = started++;
+      }
       std::optional<PerturbationResult> r;
       try {
         r = Perturb(base, targets[k], options);
       } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!failure) failure = std::current_exception();
-        next = n;
+        closed = true;
       }
       std::lock_guard<std::mutex> lock(mutex);
       results[k] = std::move(r);
+      if (results[k]) finished.push_back(k);
       ready.notify_all();
     }
   };
   std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(work);
-  for (int k = 0; k < n; ++k) {
+  for (int t = 0; t < schedule.threads; ++t) pool.emplace_back(work);
+  for (int reported = 0;; ++reported) {
     std::unique_lock<std::mutex> lock(mutex);
-    ready.wait(lock, [&] { return results[k].has_value() || failure; });
-    if (failure) break;
+    // Target order reports target `reported` next; as finished, the oldest finished one.
+    auto next_ready = [&] { return schedule.as_finished ? !finished.empty() : results[reported].has_value(); };
+    ready.wait(lock, [&] { return failure || (closed && reported == started) || (reported < n && next_ready()); });
+    if (failure || !(reported < n && next_ready())) break;
+    const int k = schedule.as_finished ? finished.front() : reported;
+    if (schedule.as_finished) finished.pop_front();
     PerturbationResult r = std::move(*results[k]);
     results[k].reset();
     lock.unlock();
@@ -609,6 +628,14 @@ void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarg
   }
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);
+}
+
+void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
+                const PerturbationOptions& options, int threads,
+                const std::function<void(int, const PerturbationResult&)>& on_result) {
+  PerturbSchedule schedule;
+  schedule.threads = threads;
+  PerturbAll(base, targets, options, schedule, on_result);
 }
 
 }  // namespace unjam

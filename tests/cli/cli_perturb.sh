@@ -30,6 +30,25 @@ printf '{"index": 1, "torn' >>"$work/out/records.jsonl"
 "$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/out" >/dev/null 2>"$work/resume.err" || fail "resume: exit $?"
 grep -q "resuming, 1 of 2 done" "$work/resume.err" || fail "the rerun did not resume: $(cat "$work/resume.err")"
 cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturbations.csv") || fail "resumed results differ"
+
+# A budget (--time-limit): a spent one starts nothing and reports the records so far as an
+# incomplete ensemble; the same command without it finishes the run with the same numbers.
+head -n 2 "$work/out/records.jsonl" >"$work/cut" && mv "$work/cut" "$work/out/records.jsonl"
+"$unjam" perturb "$work/vg.unjam" --all --threads 2 --time-limit 0 --json -o "$work/out" >"$work/part.json" 2>"$work/part.err" || fail "--time-limit 0: exit $?"
+grep -q "stopped at the time limit with 1 of 2 done" "$work/part.err" || fail "--time-limit: no account of the stop: $(cat "$work/part.err")"
+/usr/bin/python3 - "$work/part.json" "$work/out/perturbations.csv" <<'PY' || fail "--time-limit: the partial ensemble"
+import csv, json, sys
+d = json.load(open(sys.argv[1]))
+assert d["complete"] is False and d["targets"] == 2 and d["perturbations"] == 1, d
+assert len(list(csv.DictReader(open(sys.argv[2])))) == 1
+PY
+"$unjam" perturb "$work/vg.unjam" --all --threads 2 --json -o "$work/out" >"$work/rest.json" 2>/dev/null || fail "after --time-limit: exit $?"
+grep -q '"complete":true' "$work/rest.json" || fail "the continued run is not complete: $(cat "$work/rest.json")"
+cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturbations.csv") || fail "results continued after --time-limit differ"
+"$unjam" perturb "$work/vg.unjam" --all --time-limit 5 >/dev/null 2>"$work/nodir.err"; code=$?
+[ "$code" -ne 0 ] && grep -q -- "--time-limit requires --output" "$work/nodir.err" || fail "--time-limit without -o: exit $code, $(cat "$work/nodir.err")"
+"$unjam" perturb "$work/vg.unjam" --all --time-limit -1 -o "$work/neg" >/dev/null 2>&1 && fail "--time-limit -1 was accepted"
+[ ! -e "$work/neg" ] || fail "--time-limit -1 left $work/neg behind"
 "$unjam" perturb "$work/vg.unjam" --all --gap 1e-8 -o "$work/out" >/dev/null 2>"$work/other.err"; code=$?
 [ "$code" -eq 2 ] || fail "records of other parameters: exit $code, expected 2"
 grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"

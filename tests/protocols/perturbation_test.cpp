@@ -3,7 +3,9 @@
 // (lifting a disk lifts the one above it; in a channel one diameter wide, k of them), and
 // the frictionless bundled packing (unique forces: every critical force equals the contact
 // force).
+#include <chrono>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include <Eigen/LU>
@@ -280,6 +282,44 @@ TEST(Perturbation, ResultsDoNotDependOnTheThreadCount) {
   });
   ASSERT_EQ(one.size(), 3u);
   EXPECT_EQ(one, two);
+}
+
+// A long run reports results as they finish (each record written at once): every target
+// exactly once, with the results of the ordered run.
+TEST(Perturbation, AsFinishedReportsEveryTargetOnceWithTheOrderedResults) {
+  const Scene scene = VGroove(1.3);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const std::vector<PerturbationTarget> targets = {Opening(0, 2), Opening(1, 2), Opening(0, 2), Opening(1, 2), Opening(0, 2)};
+  std::vector<double> ordered;
+  PerturbAll(base, targets, o, 1, [&](int, const PerturbationResult& r) { ordered.push_back(r.f_crit); });
+  PerturbSchedule schedule;
+  schedule.threads = 2;
+  schedule.as_finished = true;
+  std::map<int, double> finished;
+  PerturbAll(base, targets, o, schedule, [&](int k, const PerturbationResult& r) {
+    EXPECT_TRUE(finished.emplace(k, r.f_crit).second) << "target " << k << " reported twice";
+  });
+  ASSERT_EQ(finished.size(), targets.size());
+  for (int k = 0; k < static_cast<int>(targets.size()); ++k) EXPECT_EQ(finished[k], ordered[k]) << k;
+}
+
+// A run's budget (--time-limit): no target starts once it is spent, in either order.
+TEST(Perturbation, NoTargetStartsOnceTheBudgetIsSpent) {
+  const Scene scene = VGroove(1.3);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  for (const int threads : {1, 2}) {
+    for (const bool as_finished : {false, true}) {
+      PerturbSchedule schedule;
+      schedule.threads = threads;
+      schedule.as_finished = as_finished;
+      schedule.start_before = std::chrono::steady_clock::now();
+      int reported = 0;
+      PerturbAll(base, {Opening(0, 2), Opening(1, 2)}, o, schedule, [&](int, const PerturbationResult&) { ++reported; });
+      EXPECT_EQ(reported, 0) << threads << " threads, as finished " << as_finished;
+    }
+  }
 }
 
 // On one thread each result is reported before the next perturbation starts (a long run

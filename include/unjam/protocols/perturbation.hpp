@@ -12,9 +12,11 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -202,11 +204,27 @@ PerturbationTarget ParticleShift(const PerturbationBase& base, int particle, Vec
 // contact forces on it (a shift's reference force).
 double EffectiveWeightOf(const PerturbationBase& base, int p);
 
-// Runs the targets on `threads` threads and reports each result to `on_result` (called
-// from the calling thread, in target order, as soon as a result and all before it exist),
+// How PerturbAll hands out its targets and reports their results.
+struct PerturbSchedule {
+  int threads = 1;
+  // Report each result as soon as it exists, in the order the perturbations finish, rather
+  // than in target order: a long run then writes each record the moment it exists, and an
+  // interruption loses only the perturbations still being solved.
+  bool as_finished = false;
+  // No target is started at or after this instant (a long run's budget); those started
+  // finish and are reported. None: every target is run.
+  std::optional<std::chrono::steady_clock::time_point> start_before;
+};
+
+// Runs the targets and reports each result to `on_result` (called from the calling thread)
 // without keeping them: an ensemble of large packings needs the memory of a few results.
-// Result k belongs to target k whatever the thread count (each perturbation is
-// deterministic). An exception in a perturbation is rethrown after the workers stop.
+// In target order unless `as_finished`. Result k belongs to target k whatever the thread
+// count (each perturbation is deterministic). An exception in a perturbation is rethrown
+// after the workers stop.
+void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
+                const PerturbationOptions& options, const PerturbSchedule& schedule,
+                const std::function<void(int, const PerturbationResult&)>& on_result);
+// Every target on `threads` threads, in target order.
 void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
                 const PerturbationOptions& options, int threads,
                 const std::function<void(int, const PerturbationResult&)>& on_result);
