@@ -79,6 +79,10 @@ case "${1:-}" in
     for n in "${names[@]}"; do
       done_lines=$(kept_records "$n" | wc -l)
       echo "$n: $(( done_lines > 0 ? done_lines - 1 : 0 )) records kept; unjam perturb $(recipe "$n")"
+      # Where the finished shifts sit in their LP intervals (unjam bounds --top|--bottom).
+      if [ "$done_lines" -gt 1 ] && [ -e "$kept/$n/bounds.csv" ]; then
+        /usr/bin/python3 "$root/scripts/records_vs_bounds.py" "$kept/$n" "$kept/$n/bounds.csv" | sed -n '1,3s/^/    /p'
+      fi
     done ;;
   run)
     name="${2:-}"; hours="${3:-1}"; build="${4:-$root/build}"

@@ -91,10 +91,18 @@ TEST(ShiftBounds, WarmStartsAgreeWithLpsFromScratchOnThePile) {
     const ShiftBounds& c = scratch.bounds[a];
     EXPECT_EQ(w.min.status, c.min.status) << "shift " << a;
     EXPECT_EQ(w.max.status, c.max.status) << "shift " << a;
-    if (w.min.ok() && c.min.ok()) EXPECT_NEAR(w.min.value, c.min.value, 1e-8 * (1.0 + std::abs(c.min.value)));
-    if (w.max.ok() && c.max.ok()) EXPECT_NEAR(w.max.value, c.max.value, 1e-8 * (1.0 + std::abs(c.max.value)));
-    if (w.unloaded_contacts == 0 && w.min.ok()) EXPECT_GE(w.reference, w.min.value - 1e-9);
-    if (w.unloaded_contacts == 0 && w.max.ok()) EXPECT_LE(w.reference, w.max.value + 1e-9);
+    if (w.min.ok() && c.min.ok()) {
+      EXPECT_NEAR(w.min.value, c.min.value, 1e-8 * (1.0 + std::abs(c.min.value)));
+    }
+    if (w.max.ok() && c.max.ok()) {
+      EXPECT_NEAR(w.max.value, c.max.value, 1e-8 * (1.0 + std::abs(c.max.value)));
+    }
+    if (w.unloaded_contacts == 0 && w.min.ok()) {
+      EXPECT_GE(w.reference, w.min.value - 1e-9);
+    }
+    if (w.unloaded_contacts == 0 && w.max.ok()) {
+      EXPECT_LE(w.reference, w.max.value + 1e-9);
+    }
     opened += w.unloaded_contacts > 0;
     bounded += w.min.ok() && w.max.ok();
     // Every shift starts from a copy of the same model: the thread count changes nothing.
