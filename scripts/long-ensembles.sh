@@ -46,6 +46,7 @@ unpack() {
   mkdir -p "$dir"
   local kept_lines work_lines
   kept_lines=$(kept_records "$name" | wc -l)
+  [ "$kept_lines" -gt 0 ] || return 0
   work_lines=$(lines "$dir/records.jsonl")
   if [ "$work_lines" -lt "$kept_lines" ]; then
     kept_records "$name" >"$dir/records.jsonl.part" && mv "$dir/records.jsonl.part" "$dir/records.jsonl"
