@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev coinor-libclp-dev
-  libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libopenmpi-dev openmpi-bin
   gnuplot-nox python3-matplotlib python3-scipy
 )
 missing=()

@@ -12,8 +12,8 @@
 #        scripts/long-ensembles.sh store NAME
 #            store what the work directory holds now (after an interrupted run)
 # The work directory is ${UNJAM_ENSEMBLES:-/tmp/unjam-ensembles}/NAME; UNJAM_ENSEMBLES_KEPT
-# moves the kept records elsewhere (a trial run). `demo` (10 shifts of the 100-disk pile, a
-# second) tries the machinery.
+# moves the kept records elsewhere (a trial run); UNJAM_MPIRUN launches the run under MPI.
+# `demo` (10 shifts of the 100-disk pile, a second) tries the machinery.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 kept="${UNJAM_ENSEMBLES_KEPT:-$root/bench/results/ensembles}"
@@ -92,8 +92,11 @@ case "${1:-}" in
     unpack "$name"
     seconds=$(/usr/bin/python3 -c "import sys; print(float(sys.argv[1]) * 3600)" "$hours")
     cd "$root"
-    # shellcheck disable=SC2086  # the recipe is a word list
-    "$build/unjam" perturb $args --threads 0 --time-limit "$seconds" -o "$work_root/$name" --json \
+    # UNJAM_MPIRUN (e.g. "mpirun -np 64 --hostfile HOSTS"): the ranks share the work
+    # directory, which must then be one they all see (docs/perturbations.md, "Beyond one
+    # machine: MPI").
+    # shellcheck disable=SC2086  # the recipe and the launcher are word lists
+    ${UNJAM_MPIRUN:-} "$build/unjam" perturb $args --threads 0 --time-limit "$seconds" -o "$work_root/$name" --json \
       >"$work_root/$name.json" || echo "long-ensembles.sh: unjam perturb exit $? (results so far kept)" >&2
     store "$name" ;;
   store)

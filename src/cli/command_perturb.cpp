@@ -6,9 +6,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
+#include <vector>
 
+#include "mpi_session.hpp"
 #include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/particle_export.hpp"
@@ -165,10 +168,27 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   return header;
 }
 
-// Records already on disk from an interrupted run with the same header, by target index.
-std::map<int, ReducedResponse> Resume(const std::filesystem::path& records, const nlohmann::json& header) {
-  std::map<int, ReducedResponse> done;
-  if (!std::filesystem::exists(records)) return done;
+// The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
+// MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
+std::filesystem::path RecordsPath(const std::filesystem::path& dir, int rank) {
+  return dir / (rank == 0 ? std::string("records.jsonl") : "records.rank" + std::to_string(rank) + ".jsonl");
+}
+
+// records.jsonl and every rank's file left in `dir` (a run or an interrupted mpirun).
+std::vector<std::filesystem::path> RecordsFiles(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  if (std::filesystem::exists(RecordsPath(dir, 0))) files.push_back(RecordsPath(dir, 0));
+  std::vector<std::filesystem::path> ranks;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("records.rank", 0) == 0 && name.size() > 6 && name.substr(name.size() - 6) == ".jsonl") ranks.push_back(entry.path());
+  }
+  std::sort(ranks.begin(), ranks.end());
+  files.insert(files.end(), ranks.begin(), ranks.end());
+  return files;
+}
+
+RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::json& header) {
   RecordsFile file = ReadRecords(records);
   if (file.header != header) {
     std::string keys;
@@ -181,9 +201,41 @@ std::map<int, ReducedResponse> Resume(const std::filesystem::path& records, cons
     throw std::invalid_argument(records.string() + " holds a run with other parameters (" + keys +
                                 "): remove it or choose another --output directory");
   }
-  std::filesystem::resize_file(records, file.valid_bytes);  // drop a torn last line
-  for (auto& [index, record] : file.records) done.emplace(index, std::move(record));
+  return file;
+}
+
+// Records already on disk with the same header, by target index, from every records file
+// in `dir`; a torn last line of this process's own file (`own`) is cut off. A target
+// recorded twice (an mpirun interrupted while merging) counts once.
+std::map<int, ReducedResponse> Resume(const std::filesystem::path& dir, const nlohmann::json& header,
+                                      const std::filesystem::path& own) {
+  std::map<int, ReducedResponse> done;
+  for (const std::filesystem::path& path : RecordsFiles(dir)) {
+    RecordsFile file = ReadRecordsOf(path, header);
+    if (path == own) std::filesystem::resize_file(path, file.valid_bytes);  // drop a torn last line
+    for (auto& [index, record] : file.records) done.emplace(index, std::move(record));
+  }
   return done;
+}
+
+// After an mpirun (or a resume of one): the other ranks' records are appended to
+// records.jsonl as they were written, and their files removed, so that the directory
+// holds one records file that only ever grew.
+void MergeRankRecords(const std::filesystem::path& dir, const nlohmann::json& header) {
+  const std::filesystem::path merged = RecordsPath(dir, 0);
+  for (const std::filesystem::path& path : RecordsFiles(dir)) {
+    if (path == merged) continue;
+    const RecordsFile file = ReadRecordsOf(path, header);
+    std::ifstream in(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.resize(static_cast<std::size_t>(file.valid_bytes));
+    const std::size_t body = text.find('\n') + 1;  // after the header line
+    std::ofstream out(merged, std::ios::app | std::ios::binary);
+    out << text.substr(body) << std::flush;
+    if (!out) throw OutputError(merged.string() + ": cannot append the records of " + path.string());
+    out.close();
+    std::filesystem::remove(path);
+  }
 }
 
 std::string TargetName(const PerturbationTarget& t) {
@@ -345,22 +397,31 @@ int RunPerturb(const PerturbFlags& f) {
   const EnsembleOptions ensemble;
   const ResponseLayout layout = MakeLayout(base, ensemble, options.gap);
 
+  MpiSession* mpi = CurrentMpiSession();
+  const int rank = mpi != nullptr ? mpi->rank() : 0, ranks = mpi != nullptr ? mpi->size() : 1;
+  if (ranks > 1 && f.output_dir.empty()) {
+    throw std::invalid_argument("under mpirun, -o DIR is needed: the ranks share their records there");
+  }
   const std::filesystem::path dir = f.output_dir;
   const nlohmann::json header = Header(f, selection, options, base);
   std::map<int, ReducedResponse> records;
   std::ofstream log;
   if (!f.output_dir.empty()) {
     std::filesystem::create_directories(dir);
-    records = Resume(dir / "records.jsonl", header);
-    const bool fresh = !std::filesystem::exists(dir / "records.jsonl");
-    log.open(dir / "records.jsonl", std::ios::app | std::ios::binary);
-    if (!log) throw OutputError((dir / "records.jsonl").string() + ": cannot open for writing");
+    const std::filesystem::path own = RecordsPath(dir, rank);
+    records = Resume(dir, header, own);
+    const bool fresh = !std::filesystem::exists(own);
+    log.open(own, std::ios::app | std::ios::binary);
+    if (!log) throw OutputError(own.string() + ": cannot open for writing");
     if (fresh) log << header.dump() << '\n' << std::flush;
   }
+  // The targets not yet recorded; under mpirun rank r owns the targets k = r mod ranks, by
+  // the selection alone, so that the ranks need not agree on what is recorded (each reads
+  // the others' files while they are written).
   std::vector<PerturbationTarget> todo;
   std::vector<int> index_of;
   for (int k = 0; k < static_cast<int>(selection.targets.size()); ++k) {
-    if (records.count(k)) continue;
+    if (records.count(k) || k % ranks != rank) continue;
     todo.push_back(selection.targets[k]);
     index_of.push_back(k);
   }
@@ -380,13 +441,25 @@ int RunPerturb(const PerturbFlags& f) {
       if (k == 0) WriteFullField(dir, base, r);
     }
     if (!f.quiet) {
-      std::fprintf(stderr, "perturb [%d/%d] %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n",
-                   static_cast<int>(records.size()) + 1, total, TargetName(r.target).c_str(), r.f_crit, r.f_reference,
+      const std::string who = ranks > 1 ? Format("perturb rank %d [%d/%d]", rank, static_cast<int>(records.size()) + 1, total)
+                                        : Format("perturb [%d/%d]", static_cast<int>(records.size()) + 1, total);
+      std::fprintf(stderr, "%s %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n", who.c_str(),
+                   TargetName(r.target).c_str(), r.f_crit, r.f_reference,
                    r.penetration_depth, r.status.c_str(), r.solve.iterations, r.solve.residual, r.seconds);
       if (!r.resolved) std::fprintf(stderr, "  %s: %s\n", r.solve.backend.c_str(), r.solve.message.c_str());
     }
     records.emplace(k, std::move(record));
   });
+  if (log.is_open()) log.close();
+  if (ranks > 1) {
+    // Every rank's share is recorded (or a rank failed: then all end with its code).
+    const int worst = mpi->WorstStatus(kOk);
+    if (worst != kOk || rank != 0) return worst;
+  }
+  if (!f.output_dir.empty() && RecordsFiles(dir).size() > 1) {
+    MergeRankRecords(dir, header);
+    records = Resume(dir, header, RecordsPath(dir, 0));
+  }
   std::vector<ReducedResponse> ordered;
   for (const auto& [k, r] : records) ordered.push_back(r);
   const EnsembleSummary summary = Summarize(ordered, layout, ensemble);

@@ -13,6 +13,7 @@
 #include "command_perturb.hpp"
 #include "command_solve.hpp"
 #include "main_job.hpp"
+#include "mpi_session.hpp"
 #include "unjam/io/packing_file.hpp"
 
 namespace {
@@ -62,6 +63,10 @@ int Run(int argc, char** argv) {
     return kUsageError;
   }
   try {
+    const MpiSession* mpi = CurrentMpiSession();
+    if (mpi != nullptr && mpi->size() > 1 && !*perturb) {
+      throw std::invalid_argument("only `unjam perturb` divides its work among MPI ranks; run other commands without mpirun");
+    }
     const bool main_job_options = app.count("--sample") + app.count("--seed") + app.count("--out") + app.count("--threads") > 0;
     if (main_job_options && !app.get_subcommands().empty()) {
       throw std::invalid_argument("--sample, --seed, --out and --threads before a command belong to the main job (unjam without a command)");
@@ -85,13 +90,23 @@ int Run(int argc, char** argv) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int RunOrFail(int argc, char** argv) {
   try {
     return Run(argc, argv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());
     return unjam::cli::kInternalError;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  unjam::cli::MpiSession mpi(argc, argv);
+  unjam::cli::SetCurrentMpiSession(&mpi);
+  const int code = RunOrFail(argc, argv);
+  // Under mpirun every rank meets the others once (docs/perturbations.md, "Beyond one
+  // machine: MPI"); a rank that ended early, on an error, meets them here.
+  if (mpi.size() > 1 && !mpi.Synchronised()) return mpi.WorstStatus(code);
+  return code;
 }
