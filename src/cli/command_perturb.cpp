@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -64,7 +65,6 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_option("--time-limit", time_limit,
                "start no perturbation after S seconds of this run; those started finish, and the results are written "
                "for all done so far (summary \"complete\": false); rerun the same command to continue")
-      ->check(CLI::NonNegativeNumber)
       ->needs(output);
   a.add_flag("--json", json, "one JSON object on stdout");
   a.add_flag("--quiet", quiet, "no progress on stderr");
@@ -384,6 +384,9 @@ void PrintSummary(const nlohmann::json& j) {
 
 int RunPerturb(const PerturbFlags& f) {
   const auto start = Clock::now();
+  if (f.time_limit && !(std::isfinite(*f.time_limit) && *f.time_limit >= 0.0)) {
+    throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " + Format("%g", *f.time_limit));
+  }
   PerturbationOptions options = OptionsFrom(f);
   const Scene scene = ReadPacking(f.file);
   const std::string fallback = PerturbationFallback(options, scene);  // before "auto" is resolved

@@ -47,8 +47,11 @@ grep -q '"complete":true' "$work/rest.json" || fail "the continued run is not co
 cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturbations.csv") || fail "results continued after --time-limit differ"
 "$unjam" perturb "$work/vg.unjam" --all --time-limit 5 >/dev/null 2>"$work/nodir.err"; code=$?
 [ "$code" -ne 0 ] && grep -q -- "--time-limit requires --output" "$work/nodir.err" || fail "--time-limit without -o: exit $code, $(cat "$work/nodir.err")"
-"$unjam" perturb "$work/vg.unjam" --all --time-limit -1 -o "$work/neg" >/dev/null 2>&1 && fail "--time-limit -1 was accepted"
-[ ! -e "$work/neg" ] || fail "--time-limit -1 left $work/neg behind"
+for bad in -1 nan inf; do
+  "$unjam" perturb "$work/vg.unjam" --all --time-limit "$bad" -o "$work/neg" >/dev/null 2>"$work/neg.err"; code=$?
+  [ "$code" -eq 2 ] && grep -q -- "--time-limit must be a finite number of seconds >= 0" "$work/neg.err" || fail "--time-limit $bad: exit $code, $(head -c 200 "$work/neg.err")"
+  [ ! -e "$work/neg" ] || fail "--time-limit $bad left $work/neg behind"
+done
 "$unjam" perturb "$work/vg.unjam" --all --gap 1e-8 -o "$work/out" >/dev/null 2>"$work/other.err"; code=$?
 [ "$code" -eq 2 ] || fail "records of other parameters: exit $code, expected 2"
 grep -q "gap" "$work/other.err" || fail "the error does not name the differing parameter: $(cat "$work/other.err")"
