@@ -286,6 +286,7 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);
   solve.solver.lemke_velocity_scale = options.gap / options.dt;
+  solve.solver.newton_warm_probe = true;  // the static forces are the warm start
   if (options.prefer_quasi_static) solve.solver.lemke_velocity_bound = DynamicSpeed(base, options);
   solve.nearest_member = options.nearest_member;
   return solve;

@@ -168,6 +168,34 @@ TEST(Newton, LargeSystemsCarryTheWeightAbove) {
   }
 }
 
+// The probe (SolverOptions::newton_warm_probe, set by perturbations): from a warm start
+// within Newton's reach, Newton alone reaches the tolerance and the NSGS warm-up never
+// runs; without the probe the warm-up runs first (the start is above its 1e-5). Both end
+// on the stack's unique forces.
+TEST(Newton, TheProbeFromANearWarmStartSkipsTheWarmUp) {
+  const int k = 12;
+  const double w = std::numbers::pi * 0.25;
+  ContactProblem p = StackProblem(k, 0.5);
+  const int m = p.UnknownsPerContact();
+  p.initial_guess = Eigen::VectorXd::Zero(p.NumUnknowns());
+  for (int c = 0; c < k; ++c) p.initial_guess[c * m] = (k - c) * w * (1.0 + 1e-3 * ((c % 3) - 1));
+  ASSERT_GT(ComputeResidual(p, p.initial_guess).residual, 1e-4);
+  for (const bool probe : {true, false}) {
+    SolverOptions o;
+    o.tolerance = 1e-12;
+    o.newton_warm_probe = probe;
+    const SolveResult r = MakeSolver("newton")->Solve(p, o);
+    ASSERT_TRUE(r.report.converged()) << r.report.message;
+    if (probe) {
+      EXPECT_EQ(r.report.contact_updates, 0) << "the probe converged alone";
+      EXPECT_GE(r.report.iterations, 1);
+    } else {
+      EXPECT_GT(r.report.contact_updates, 0) << "the warm-up ran";
+    }
+    for (int c = 0; c < k; ++c) EXPECT_NEAR(r.impulses[c * m], (k - c) * w, 1e-9) << "probe " << probe << " contact " << c;
+  }
+}
+
 // Nearly frictionless steps (μ ≤ 1e-4) start newton from their frictionless solution
 // (newton.cpp). The frictionless packing with μ = 1e-8 is static with the unique
 // frictionless forces, which meet the frictional law as they are: accepted without a
