@@ -530,7 +530,7 @@ TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
     change_b += std::abs(y.normal_after - y.normal_before) + std::abs(y.tangential_after - y.tangential_before);
     largest_difference = std::max(largest_difference, std::abs(y.normal_after - x.normal_after));
   }
-  EXPECT_GT(largest_difference, 1.0);  // another member
+  EXPECT_GT(largest_difference, 1e6 * path.gap);  // another member, not the O(ξ) response (pattern_lp_test)
   EXPECT_LT(change_b, change_a);       // nearer the static forces
 }
 

@@ -47,8 +47,10 @@ TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   ASSERT_TRUE(nearest.found) << nearest.message;
   EXPECT_LT(ComputeResidual(s.problem, nearest.impulses).residual, 1e-13);
   // Another member: impulses that differ by O(1), not by the O(ξ) of the response, and
-  // nearer the static forces than the path's answer.
-  EXPECT_GT((nearest.impulses - path.impulses).cwiseAbs().maxCoeff(), 1.0);
+  // nearer the static forces than the path's answer. (By how much depends on which member
+  // the path ends on, which round-off decides: above 1 with the reference BLAS, 0.70 with
+  // OpenBLAS; a million ξ tells a member from the response.)
+  EXPECT_GT((nearest.impulses - path.impulses).cwiseAbs().maxCoeff(), 1e6 * s.options.gap);
   EXPECT_LT(L1Distance(nearest.impulses, s.problem.initial_guess), L1Distance(path.impulses, s.problem.initial_guess));
   // With the same motion: every end velocity within 1 % of the response of the path's.
   const Eigen::VectorXd v_path = EndVelocity(s.problem, path.impulses);
