@@ -133,6 +133,18 @@ std::string FileFingerprint(const std::string& path) {
   return buf;
 }
 
+// The backends' own options that change their answers, each only when not its default, so
+// that records written before they were kept here (all with the defaults) still resume.
+void AddNonDefaultBackendOptions(const SolverOptions& o, nlohmann::json& header) {
+  const SolverOptions defaults;
+  if (o.newton_max_iterations != defaults.newton_max_iterations) header["newton_iterations"] = o.newton_max_iterations;
+  if (o.newton_warmup_tolerance != defaults.newton_warmup_tolerance) header["warmup_tol"] = o.newton_warmup_tolerance;
+  if (o.ipopt_max_iterations != defaults.ipopt_max_iterations) header["ipopt_iterations"] = o.ipopt_max_iterations;
+  if (o.nlopt_algorithm != defaults.nlopt_algorithm) header["nlopt_algorithm"] = ToString(o.nlopt_algorithm);
+  if (o.nlopt_max_evaluations != defaults.nlopt_max_evaluations) header["nlopt_evaluations"] = o.nlopt_max_evaluations;
+  if (o.convex_relaxation) header["convex_relaxation"] = true;
+}
+
 nlohmann::json Header(const PerturbFlags& f, const Selection& s, const PerturbationOptions& o,
                       const PerturbationBase& base) {
   nlohmann::json header = {{"unjam_perturb_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
@@ -156,6 +168,7 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   if (o.solver.lemke_box_rate_first) header["lemke_box_first"] = true;
   if (o.solver.lemke_warm_start) header["lemke_warm"] = true;
   if (o.prefer_quasi_static) header["prefer_quasi_static"] = true;
+  AddNonDefaultBackendOptions(o.solver, header);
   // Shifts only: records written before the shifted particle's own displacement counted
   // in d, δ and the fields (all before 2026-11-26) do not resume into these.
   if (s.Shifts()) header["shifted_particle_displaced"] = true;

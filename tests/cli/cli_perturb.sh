@@ -111,6 +111,10 @@ for r in csv.DictReader(open(sys.argv[2])):
 PY
 "$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/cold" >/dev/null 2>"$work/cold.err"; code=$?
 [ "$code" -eq 2 ] && grep -q "check_by_continuation" "$work/cold.err" || fail "records of a cold check resumed a continued one: exit $code"
+# A backend's own option that changes its answers (here newton's warm-up) is in the header
+# when not its default: records made with the default do not resume a run with another.
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 --warmup-tol 1e-3 -o "$work/out" >/dev/null 2>"$work/wu.err"; code=$?
+[ "$code" -eq 2 ] && grep -q "warmup_tol" "$work/wu.err" || fail "records with the default warm-up resumed a run with --warmup-tol 1e-3: exit $code, $(head -c 300 "$work/wu.err")"
 
 # The fallback: on a frictional packing `auto` picks lemke with ipopt behind it, recorded in
 # the JSON and the header; each row names the backend of its answer; records with a
