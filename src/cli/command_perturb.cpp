@@ -137,6 +137,9 @@ std::string FileFingerprint(const std::string& path) {
 // that records written before they were kept here (all with the defaults) still resume.
 void AddNonDefaultBackendOptions(const SolverOptions& o, nlohmann::json& header) {
   const SolverOptions defaults;
+  if (o.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.lemke_pivots_per_row;
+  if (o.lemke_box_rate_first) header["lemke_box_first"] = true;
+  if (o.lemke_warm_start) header["lemke_warm"] = true;
   if (o.newton_max_iterations != defaults.newton_max_iterations) header["newton_iterations"] = o.newton_max_iterations;
   if (o.newton_warmup_tolerance != defaults.newton_warmup_tolerance) header["warmup_tol"] = o.newton_warmup_tolerance;
   if (o.ipopt_max_iterations != defaults.ipopt_max_iterations) header["ipopt_iterations"] = o.ipopt_max_iterations;
@@ -163,10 +166,6 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   if (o.fallback != "none") header["fallback"] = o.fallback;
   // Only when not the path's, for the same reason.
   if (o.nearest_member) header["member"] = "nearest";
-  // Only when not lemke's own bounds, for the same reason.
-  if (o.solver.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.solver.lemke_pivots_per_row;
-  if (o.solver.lemke_box_rate_first) header["lemke_box_first"] = true;
-  if (o.solver.lemke_warm_start) header["lemke_warm"] = true;
   if (o.prefer_quasi_static) header["prefer_quasi_static"] = true;
   AddNonDefaultBackendOptions(o.solver, header);
   // Shifts only: records written before the shifted particle's own displacement counted
