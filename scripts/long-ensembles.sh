@@ -20,10 +20,12 @@ kept="${UNJAM_ENSEMBLES_KEPT:-$root/bench/results/ensembles}"
 work_root="${UNJAM_ENSEMBLES:-/tmp/unjam-ensembles}"
 
 # NAME -> the perturb arguments (the packing first). The options are those of the runs in
-# docs/performance.md: lemke's box-form rate path first, a pivot budget that a 1600-disk
-# shift needs, no fallback (ipopt does not resolve these steps either).
+# docs/performance.md: lemke (named: `auto` gives piles of more than 2 000 contacts to
+# newton, though --lemke-box-first would name it too; the records' header is the same),
+# its box-form rate path first, a pivot budget that a 1600-disk shift needs, no fallback
+# (ipopt does not resolve these steps either).
 recipe() {
-  local lemke=(--max-iter 3000000 --fallback none --lemke-box-first)
+  local lemke=(--backend lemke --max-iter 3000000 --fallback none --lemke-box-first)
   case "$1" in
     gravity-n1600-mu0.1-top) echo problems/gravity-n1600-mu0.1.unjam --top "${lemke[@]}" ;;
     gravity-n1600-mu0.1-bottom) echo problems/gravity-n1600-mu0.1.unjam --bottom "${lemke[@]}" ;;

@@ -53,11 +53,11 @@ void PerturbFlags::Register(CLI::App& a) {
              "lemke: where a run ends on a solution in which some grain moves fast enough to make the step dynamic, "
              "try the remaining runs and report the first quasi-static solution (if none, the first solution)");
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
-  solver.backend = "auto";  // newton without friction, lemke with it (PerturbationOptions)
+  solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;
   solver.Register(a);
-  a.get_option("--backend")->description("contact solver backend; auto: lemke on frictional packings (but newton at fixed volume), newton on frictionless ones");
-  a.add_option("--fallback", fallback, "backend that solves a step again when the first leaves it unresolved; auto: ipopt when --backend auto picks lemke, else none")
+  a.get_option("--backend")->description("contact solver backend; auto: lemke on frictional packings of up to 2000 force-carrying contacts or when a lemke option is given (newton above, and at fixed volume), newton on frictionless ones");
+  a.add_option("--fallback", fallback, "backend that solves a step again when the first leaves it unresolved; auto: ipopt when --backend auto picks lemke, lemke when it picks newton on a frictionless packing at fixed pressure, else none")
       ->check(CLI::IsMember({"auto", "none", "nsgs", "newton", "ipopt", "nlopt", "lemke"}))
       ->capture_default_str();
   a.get_option("--tol")->description("the solver tolerance itself (default: set by --response-tol)")->default_str("");

@@ -28,14 +28,36 @@ CellCondition CellConditionFromString(const std::string& name) {
   throw std::invalid_argument("unknown cell condition '" + name + "' (known: fixed-pressure, fixed-volume)");
 }
 
+namespace {
+// Up to this many force-carrying contacts `auto` gives frictional steps to lemke, above
+// it to newton. Lemke's paths lengthen faster than the packing grows, and its default
+// budget (100 000 pivots) runs out: measured on `--sample 8 --seed 3` of packings made
+// by the same recipe (docs/perturbations.md, "Which backend `auto` picks"), lemke
+// resolves 5 of 8 openings at 1 287 contacts (newton 4, none of them quasi-static), none
+// of 4 at 2 515 contacts (6–8 minutes each) and none at 3 854 (12 minutes), where newton
+// answers in 15–40 s.
+constexpr std::size_t kLemkeAutoContacts = 2000;
+
+bool LemkeOptionsGiven(const PerturbationOptions& o) {
+  return o.solver.lemke_warm_start || o.solver.lemke_pivots_per_row > 0 || o.solver.lemke_box_rate_first ||
+         o.prefer_quasi_static;
+}
+
+bool FixedVolumeCell(const PerturbationOptions& options, const Scene& scene) {
+  return scene.effects.pressure_bath.has_value() && options.cell == CellCondition::kFixedVolume;
+}
+}  // namespace
+
 std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene) {
   if (options.backend != "auto") return options.backend;
   // At fixed volume the stress level of rigid grains in a frozen cell is itself free (any
   // multiple of a self-stress balances), and Lemke's path from zero impulses ends on the
   // unloaded solution (F_crit ≈ 0, docs/perturbations.md); newton's proximal steps stay
   // nearest the static forces.
-  const bool fixed_volume = scene.effects.pressure_bath.has_value() && options.cell == CellCondition::kFixedVolume;
-  return scene.effects.Frictional() && !fixed_volume ? "lemke" : "newton";
+  if (!scene.effects.Frictional() || FixedVolumeCell(options, scene)) return "newton";
+  // An option only lemke reads says which backend the user means, whatever the size.
+  if (LemkeOptionsGiven(options)) return "lemke";
+  return ForceCarryingPairs(scene).size() <= kLemkeAutoContacts ? "lemke" : "newton";
 }
 
 std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene) {
@@ -43,11 +65,14 @@ std::string PerturbationFallback(const PerturbationOptions& options, const Scene
   if (options.fallback != "auto") return options.fallback == PerturbationBackend(options, scene) ? "" : options.fallback;
   if (options.backend != "auto") return "";
   if (PerturbationBackend(options, scene) == "lemke") return "ipopt";
+  // Frictional steps that `auto` gives to newton have no fallback: at fixed volume lemke
+  // ends on the unloaded solution, and on large packings its paths run out of pivots
+  // after minutes, as ipopt's fixed point stalls (1e-3 on N = 3000 openings).
+  if (scene.effects.Frictional()) return "";
   // Frictionless, at fixed pressure or without a bath: newton's proximal steps crawl along
   // a self-stress that the perturbation must unload (a disk lifted off a column: its
   // contact keeps the static force to within ξ), and lemke's path solves it exactly.
-  const bool fixed_volume = scene.effects.pressure_bath.has_value() && options.cell == CellCondition::kFixedVolume;
-  return fixed_volume ? "" : "lemke";
+  return FixedVolumeCell(options, scene) ? "" : "lemke";
 }
 
 void Validate(const PerturbationOptions& o) {

@@ -177,6 +177,34 @@ TEST(Perturbation, TheAutoFallbackIsIpoptAfterLemkeAndLemkeAfterNewton) {
   EXPECT_THROW(Validate(o), std::invalid_argument);
 }
 
+TEST(Perturbation, AutoGivesLargeFrictionalPackingsToNewtonUnlessALemkeOptionIsSet) {
+  // Lemke's paths on the bundled N = 3000 packing (3 854 force-carrying contacts) run out
+  // of their budget after 12 minutes, where newton answers in half a minute
+  // (docs/perturbations.md, "Which backend `auto` picks"); the N = 500 one stays lemke's.
+  const std::string dir = std::string(UNJAM_SOURCE_DIR) + "/problems/";
+  const Scene small = ReadPacking(dir + "pressure-n500-mu0.5.unjam");
+  const Scene large = ReadPacking(dir + "pressure-n3000-mu0.5.unjam");
+  Scene large_frictionless = large;
+  large_frictionless.effects.friction = 0.0;
+  PerturbationOptions o;
+  EXPECT_EQ(PerturbationBackend(o, small), "lemke");
+  EXPECT_EQ(PerturbationFallback(o, small), "ipopt");
+  EXPECT_EQ(PerturbationBackend(o, large), "newton");
+  EXPECT_EQ(PerturbationFallback(o, large), "") << "lemke would take minutes to fail after newton";
+  EXPECT_EQ(PerturbationBackend(o, large_frictionless), "newton");
+  EXPECT_EQ(PerturbationFallback(o, large_frictionless), "lemke") << "a frictionless step keeps lemke after newton";
+  o.solver.lemke_box_rate_first = true;  // an option only lemke reads names the backend
+  EXPECT_EQ(PerturbationBackend(o, large), "lemke");
+  EXPECT_EQ(PerturbationFallback(o, large), "ipopt");
+  o.solver.lemke_box_rate_first = false;
+  o.prefer_quasi_static = true;
+  EXPECT_EQ(PerturbationBackend(o, large), "lemke");
+  o.prefer_quasi_static = false;
+  o.cell = CellCondition::kFixedVolume;  // newton at fixed volume, whatever the size
+  EXPECT_EQ(PerturbationBackend(o, small), "newton");
+  EXPECT_EQ(PerturbationFallback(o, small), "");
+}
+
 TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
   const Scene scene = Column();
   PerturbationOptions o;

@@ -43,14 +43,17 @@ struct PerturbationOptions {
   // count as exactly closed (well below ξ).
   double margin = 1e-6;
   double closed_gap_tolerance = 1e-12;
-  // "auto" (PerturbationBackend): lemke on frictional packings, else newton.
+  // "auto" (PerturbationBackend): lemke on frictional packings of up to 2 000
+  // force-carrying contacts (or of any size when a lemke-only option is set), else newton.
   // A response of size ξ needs residuals near 1e-12, where NSGS is slow and, on
   // frictionless packings, leaves δ biased by 2–4 %; on frictional ones newton stalls near
-  // 1e-11 and Lemke's pivoting resolves them (docs/backends.md).
+  // 1e-11 and Lemke's pivoting resolves them (docs/backends.md), but on larger packings
+  // its paths outrun any budget of minutes.
   std::string backend = "auto";
   // When the backend leaves a step unresolved, it is solved once more by this one
-  // (PerturbationFallback): "auto" (ipopt where `backend` is "auto" and resolves to lemke),
-  // "none", or a backend name. On the μ = 10 packing lemke's paths end on rays on openings
+  // (PerturbationFallback): "auto" (where `backend` is "auto": ipopt after lemke, lemke
+  // after newton on frictionless steps at fixed pressure, none otherwise), "none", or a
+  // backend name. On the μ = 10 packing lemke's paths end on rays on openings
   // that ipopt's De Saxcé fixed point resolves (docs/perturbations.md, "Fallback").
   std::string fallback = "auto";
   SolverOptions solver;                 // its tolerance is replaced, see SolverToleranceFor
