@@ -137,6 +137,22 @@ PY
 "$unjam" perturb "$work/vg5.unjam" --all --fallback simplex >/dev/null 2>"$work/fb.err"; code=$?
 [ "$code" -eq 2 ] && grep -q -- "--fallback" "$work/fb.err" || fail "--fallback simplex: exit $code, expected 2 naming the option"
 
+# A frictional packing of more than 2 000 contacts goes to newton, without a fallback
+# (lemke's paths take minutes to fail there); a lemke-only option still names lemke.
+# One Newton iteration: only the choice is checked, not the answer.
+big="$src/problems/pressure-n3000-mu0.5.unjam"
+quick=(--contact 4 --max-iter 1 --newton-iter 1 --no-check-linearity --threads 1 --json)
+"$unjam" perturb "$big" "${quick[@]}" >"$work/big.json" 2>/dev/null; code=$?
+[ "$code" -eq 0 ] || fail "perturb N=3000, auto: exit $code"
+"$unjam" perturb "$big" "${quick[@]}" --lemke-row-pivots 1 --fallback none >"$work/big-lemke.json" 2>/dev/null
+/usr/bin/python3 - "$work/big.json" "$work/big-lemke.json" <<'PY' || fail "perturb: auto's choice on a large frictional packing"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["backend"] == "newton" and d["fallback"] == "none", d
+d = json.load(open(sys.argv[2]))
+assert d["backend"] == "lemke", d
+PY
+
 # --member nearest: each answer is replaced by the member of its motion pattern nearest the
 # static forces (the pattern LP); recorded in the JSON and the header, named in each row's
 # backend; the same critical force as the path's answer here (one disk: a unique answer);
