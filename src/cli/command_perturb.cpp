@@ -56,7 +56,8 @@ void PerturbFlags::Register(CLI::App& a) {
   solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;
   solver.Register(a);
-  a.get_option("--backend")->description("contact solver backend; auto: lemke on frictional packings of up to 2000 force-carrying contacts or when a lemke option is given (newton above, and at fixed volume), newton on frictionless ones");
+  a.get_option("--backend")->description("contact solver backend; auto: lemke on frictional packings of up to " + std::to_string(kLemkeAutoContacts) +
+                                         " force-carrying contacts or when a lemke option is given (newton above, and at fixed volume), newton on frictionless ones");
   a.add_option("--fallback", fallback, "backend that solves a step again when the first leaves it unresolved; auto: ipopt when --backend auto picks lemke, lemke when it picks newton on a frictionless packing at fixed pressure, else none")
       ->check(CLI::IsMember({"auto", "none", "nsgs", "newton", "ipopt", "nlopt", "lemke"}))
       ->capture_default_str();

@@ -29,15 +29,6 @@ CellCondition CellConditionFromString(const std::string& name) {
 }
 
 namespace {
-// Up to this many force-carrying contacts `auto` gives frictional steps to lemke, above
-// it to newton. Lemke's paths lengthen faster than the packing grows, and its default
-// budget (100 000 pivots) runs out: measured on `--sample 8 --seed 3` of packings made
-// by the same recipe (docs/perturbations.md, "Which backend `auto` picks"), lemke
-// resolves 5 of 8 openings at 1 287 contacts (newton 4, none of them quasi-static), none
-// of 4 at 2 515 contacts (6–8 minutes each) and none at 3 854 (12 minutes), where newton
-// answers in 15–40 s.
-constexpr std::size_t kLemkeAutoContacts = 2000;
-
 bool LemkeOptionsGiven(const PerturbationOptions& o) {
   return o.solver.lemke_warm_start || o.solver.lemke_pivots_per_row > 0 || o.solver.lemke_box_rate_first ||
          o.prefer_quasi_static;
@@ -57,6 +48,11 @@ std::string PerturbationBackend(const PerturbationOptions& options, const Scene&
   if (!scene.effects.Frictional() || FixedVolumeCell(options, scene)) return "newton";
   // An option only lemke reads says which backend the user means, whatever the size.
   if (LemkeOptionsGiven(options)) return "lemke";
+  // Lemke's paths lengthen faster than the packing grows, and its default budget (100 000
+  // pivots) runs out: measured on `--sample 8 --seed 3` of packings made by the same recipe
+  // (docs/perturbations.md, "Which backend `auto` picks"), lemke resolves 5 of 8 openings
+  // at 1 287 contacts (newton 4, none of them quasi-static), none of 4 at 2 515 contacts
+  // (6–8 minutes each) and none at 3 854 (12 minutes), where newton answers in 15–40 s.
   return ForceCarryingPairs(scene).size() <= kLemkeAutoContacts ? "lemke" : "newton";
 }
 

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -89,14 +90,19 @@ struct PerturbationOptions {
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
 double DetectionMargin(const PerturbationOptions& options);
+// Up to this many force-carrying contacts "auto" gives frictional steps at fixed pressure
+// to lemke, above it to newton (perturbation.cpp says why).
+inline constexpr std::size_t kLemkeAutoContacts = 2000;
 // The backend a perturbation uses: options.backend, or for "auto" lemke on frictional
-// packings (it resolves the stick/slide combinatorics where newton stalls), newton on
-// frictionless ones (exact too, and 20× faster) and at fixed volume (where Lemke picks the
-// unloaded solution of a stress level that the frozen cell leaves free).
+// packings of up to kLemkeAutoContacts contacts, or of any size when a lemke-only option
+// is set (it resolves the stick/slide combinatorics where newton stalls), newton on larger
+// ones, on frictionless ones (exact too, and 20× faster) and at fixed volume (where Lemke
+// picks the unloaded solution of a stress level that the frozen cell leaves free).
 std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene);
 // The backend of the second solve of an unresolved step, or "" for none: options.fallback
-// resolved ("auto": ipopt when options.backend is "auto" and PerturbationBackend picks lemke;
-// a backend the user names is not second-guessed).
+// resolved ("auto", when options.backend is "auto" too: ipopt after lemke, lemke after
+// newton on frictionless steps at fixed pressure, none otherwise; a backend the user names
+// is not second-guessed).
 std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene);
 
 // One perturbation's target: a contact (by key) or a particle and a shift direction.
