@@ -52,6 +52,9 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_flag("--prefer-quasi-static", prefer_quasi_static,
              "lemke: where a run ends on a solution in which some grain moves fast enough to make the step dynamic, "
              "try the remaining runs and report the first quasi-static solution (if none, the first solution)");
+  a.add_flag("--dynamic-lp", dynamic_lp,
+             "before solving, an LP over the contact forces bounds the step's inertial forces from below; where that "
+             "bound makes the step dynamic, report it dynamic (F_crit nan, no motion) without solving");
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;
@@ -118,6 +121,7 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.fallback = f.fallback;
   o.nearest_member = f.member == "nearest";
   o.prefer_quasi_static = f.prefer_quasi_static;
+  o.dynamic_precheck = f.dynamic_lp;
   if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
   return o;
@@ -168,6 +172,8 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // Only when not the path's, for the same reason.
   if (o.nearest_member) header["member"] = "nearest";
   if (o.prefer_quasi_static) header["prefer_quasi_static"] = true;
+  // Only when on, so that records written before it existed resume without it.
+  if (o.dynamic_precheck) header["dynamic_lp"] = true;
   AddNonDefaultBackendOptions(o.solver, header);
   // Shifts only: records written before the shifted particle's own displacement counted
   // in d, δ and the fields (all before 2026-11-26) do not resume into these.
@@ -356,7 +362,8 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const Pe
       {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
       {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend}, {"fallback", o.fallback},
       {"check_linearity", o.check_linearity}, {"check_by_continuation", o.check_linearity && o.check_by_continuation},
-      {"member", o.nearest_member ? "nearest" : "path"}, {"prefer_quasi_static", o.prefer_quasi_static}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
+      {"member", o.nearest_member ? "nearest" : "path"}, {"prefer_quasi_static", o.prefer_quasi_static},
+      {"dynamic_lp", o.dynamic_precheck}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
       {"dynamic", s.dynamic}, {"nonlinear", s.nonlinear}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
       {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
       {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},

@@ -34,6 +34,7 @@ struct PerturbFlags {
   bool cold_check = false;          // --cold-check: the 10 xi check from zero impulses
   std::string member = "path";
   bool prefer_quasi_static = false;  // --prefer-quasi-static
+  bool dynamic_lp = false;          // --dynamic-lp: PerturbationOptions::dynamic_precheck
   std::string fallback = "auto";    // --fallback: the second backend of an unresolved step
   bool json = false;
   bool quiet = false;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <cstdio>
 #include <deque>
 #include <limits>
 #include <mutex>
@@ -13,6 +14,7 @@
 #include <thread>
 
 #include "unjam/analysis/equilibrium.hpp"
+#include "unjam/problem/inertia_bound.hpp"
 #include "unjam/problem/kinematic_admissibility.hpp"
 #include "unjam/protocols/static_solve.hpp"
 
@@ -193,12 +195,45 @@ double PenetrationDepth(const Scene& scene, const std::vector<Vec2>& d, Vec2 ori
   return total > 0.0 ? weighted / total : 0.0;
 }
 
-double InertiaRatio(const PerturbationBase& base, const std::vector<Vec2>& d, double dt) {
+// The force scale of each kind of degree of freedom (problem/inertia_bound.hpp): a grain's
+// translation, the mean contact force; its spin, that force times its radius; the cell's
+// strain, D V P_ext (the virial at the bath's pressure).
+double TranslationScale(const PerturbationBase& base) {
+  return base.mean_contact_force > 0.0 ? base.mean_contact_force : 1.0;
+}
+double CellScale(const Scene& scene) {
+  const PressureBath& bath = *scene.effects.pressure_bath;
+  return CellInertia(scene) / bath.cell_mass * bath.pressure;
+}
+
+// The largest inertial force of the answer over its scale: m_i |d_i| / Δt² of every grain,
+// I_i |θ_i| / Δt² of every spin, and the cell's M_λ D V |ε| / Δt² under a pressure bath.
+double InertiaRatio(const PerturbationBase& base, const PerturbationResult& r, double dt) {
+  const double force = TranslationScale(base);
   double largest = 0.0;
-  for (std::size_t i = 0; i < d.size(); ++i) {
-    largest = std::max(largest, base.scene.particles[i].Mass() * d[i].norm() / (dt * dt));
+  for (std::size_t i = 0; i < r.displacement.size(); ++i) {
+    const Particle& p = base.scene.particles[i];
+    largest = std::max(largest, p.Mass() * r.displacement[i].norm() / force);
+    if (!r.rotation.empty()) largest = std::max(largest, p.Inertia() * std::abs(r.rotation[i]) / (force * p.radius));
   }
-  return base.mean_contact_force > 0.0 ? largest / base.mean_contact_force : largest;
+  if (base.scene.effects.pressure_bath) {
+    largest = std::max(largest, CellInertia(base.scene) * std::abs(r.cell_strain) / CellScale(base.scene));
+  }
+  return largest / (dt * dt);
+}
+
+// s_d per degree of freedom of the posed step, in its layout (contact_problem.hpp).
+Eigen::VectorXd InertiaScales(const PerturbationBase& base, const AssembledProblem& a) {
+  const ContactProblem& p = a.problem;
+  Eigen::VectorXd scale(p.NumDofs());
+  const double force = TranslationScale(base);
+  for (int b = 0; b < p.NumBodies(); ++b) {
+    const int at = b * p.DofsPerBody();
+    scale[at] = scale[at + 1] = force;
+    if (p.frictional) scale[at + 2] = force * base.scene.particles[a.particle_of_body[b]].radius;
+  }
+  if (p.cell) scale[p.NumDofs() - 1] = CellScale(base.scene);
+  return scale;
 }
 
 // The inertial work over the step, over ξ: grains, and the cell under a pressure bath (its
@@ -313,22 +348,50 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   return solve;
 }
 
-// A blocked perturbation: no force is measured (F_crit is NaN) and nothing moves.
-// `decided_by` is reported as its backend, `why` as its message.
-PerturbationResult Blocked(const PerturbationBase& base, const std::string& decided_by, const std::string& why,
-                           PerturbationResult r, Clock::time_point start) {
+// A perturbation decided before any solve: no force is measured (F_crit is NaN) and nothing
+// moves. `decided_by` is reported as its backend, `why` as its message.
+PerturbationResult DecidedWithoutSolving(const PerturbationBase& base, const std::string& decided_by, const std::string& why,
+                                         PerturbationResult r, Clock::time_point start) {
   const std::size_t n = base.scene.particles.size();
   r.f_crit = std::nan("");
   r.displacement.assign(n, Vec2::Zero());
   r.rotation.assign(n, 0.0);
   r.solve.backend = decided_by;
-  r.solve.status = SolveStatus::kNumericalFailure;
   r.solve.message = why;
-  r.resolved = false;
   r.quasi_static = false;
-  r.status = "blocked";
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
+}
+
+PerturbationResult Blocked(const PerturbationBase& base, const std::string& decided_by, const std::string& why,
+                           PerturbationResult r, Clock::time_point start) {
+  r.solve.status = SolveStatus::kNumericalFailure;
+  r.resolved = false;
+  r.status = "blocked";
+  return DecidedWithoutSolving(base, decided_by, why, std::move(r), start);
+}
+
+// The LP's bound is known to CLP's tolerance, 1e-9 in its units; a bound this many times
+// above the threshold leaves no doubt (on the dynamic openings measured it is 1e-4 to 2e-2).
+constexpr double kDynamicBoundFactor = 10.0;
+
+// A step that no answer can end near rest: dynamic, decided by the inertia LP, whose bound
+// is reported as the inertia ratio (docs/perturbations.md, "Dynamic before solving").
+std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& base, const StaticProblem& posed,
+                                                       const PerturbationOptions& options, const PerturbationResult& r,
+                                                       Clock::time_point start) {
+  const InertiaBound bound = SmallestInertia(posed.assembled.problem, InertiaScales(base, posed.assembled));
+  if (!bound.decided || bound.ratio <= kDynamicBoundFactor * options.max_inertia_ratio) return std::nullopt;
+  PerturbationResult d = r;
+  d.solve.status = SolveStatus::kConverged;
+  d.solve.iterations = bound.iterations;
+  d.resolved = true;
+  d.status = "dynamic";
+  d.inertia_ratio = bound.ratio;
+  char why[200];
+  std::snprintf(why, sizeof why, "no impulses in the contact cones keep the largest inertial force below %.3g of its scale: dynamic, not solved",
+                bound.ratio);
+  return DecidedWithoutSolving(base, "inertia LP", why, std::move(d), start);
 }
 }  // namespace
 
@@ -382,7 +445,7 @@ void Measure(const PerturbationBase& base, const PerturbationOptions& options, c
   r.force_changes = ForceChanges(base, s);
   r.penetration_depth = PenetrationDepth(base.scene, r.displacement, r.origin, r.axis);
   if (PeriodicY(base.scene.cell.periodicity)) r.pressure_change = s.equilibrium.pressure - base.pressure;
-  r.inertia_ratio = InertiaRatio(base, r.displacement, options.dt);
+  r.inertia_ratio = InertiaRatio(base, r, options.dt);
   r.inertial_force = InertialForce(base, r, options.gap, options.dt);
   r.equilibrium_residual = s.equilibrium.residual;
   r.quasi_static = r.inertia_ratio <= options.max_inertia_ratio;
@@ -453,6 +516,9 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
     const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
     if (kinematics.decided && !kinematics.admissible) return Blocked(base, "kinematic LP", kinematics.message, std::move(r), start);
   }
+  if (options.dynamic_precheck) {
+    if (auto dynamic = DynamicBeforeSolving(base, posed, options, r, start)) return std::move(*dynamic);
+  }
   StaticSolution s = SolveAndMeasure(base, perturbed, std::move(posed), solve, options, r);
   if (answer != nullptr) *answer = std::move(s);
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -480,6 +546,10 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   // A linear response's inertia grows with the gap, so at 10ξ it is judged against a
   // threshold 10 times as high: the same regime, not a stricter one.
   scaled.max_inertia_ratio *= kLinearityGapFactor;
+  // The inertia LP has no kinematics, so at 10ξ it differs only by the contacts the larger
+  // margin adds (a relaxation): its bound, at most the one that passed at ξ, cannot exceed
+  // a threshold 10 times as high.
+  scaled.dynamic_precheck = false;
   // An answer of the fallback is checked by the fallback: the first backend left the step
   // at ξ unresolved, and would most likely fail again at 10ξ.
   const std::string fallback = PerturbationFallback(options, base.scene);

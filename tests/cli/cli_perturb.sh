@@ -148,9 +148,26 @@ quick=(--contact 4 --max-iter 1 --newton-iter 1 --no-check-linearity --threads 1
 /usr/bin/python3 - "$work/big.json" "$work/big-lemke.json" <<'PY' || fail "perturb: auto's choice on a large frictional packing"
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert d["backend"] == "newton" and d["fallback"] == "none", d
+assert d["backend"] == "newton" and d["fallback"] == "none" and d["dynamic_lp"] is False, d
 d = json.load(open(sys.argv[2]))
 assert d["backend"] == "lemke", d
+PY
+
+# --dynamic-lp: the default packing's contact 83 (38–265) is dynamic by the inertia LP,
+# with no solve (F_crit nan); contact 107 (49–208) is left to the solver and is quasi-static.
+def="$src/problems/pressure-n500-mu0.5.unjam"
+for k in 83 107; do
+  "$unjam" perturb "$def" --contact $k --dynamic-lp --no-check-linearity --threads 1 --json -o "$work/lp$k" >"$work/lp$k.json" 2>/dev/null
+done
+/usr/bin/python3 - "$work/lp83" "$work/lp83.json" "$work/lp107" <<'PY' || fail "perturb --dynamic-lp on"
+import csv, json, math, sys
+row = next(csv.DictReader(open(sys.argv[1] + "/perturbations.csv")))
+assert row["status"] == "dynamic" and row["backend"] == "inertia LP" and row["f_crit"] == "nan", row
+assert float(row["inertia_ratio"]) > 1e-5, row
+d = json.load(open(sys.argv[2]))
+assert d["dynamic_lp"] is True and d["dynamic"] == 1 and d["used"] == 0, d
+row = next(csv.DictReader(open(sys.argv[3] + "/perturbations.csv")))
+assert row["status"] == "ok" and row["backend"] == "lemke", row
 PY
 
 # --member nearest: each answer is replaced by the member of its motion pattern nearest the

@@ -434,6 +434,40 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
 // the default there). Unlike a frictionless opening, F_crit does not grow by the
 // mechanism's inertial part here (5e-8 at ξ = 1e-9): friction, not the held contact,
 // takes it up.
+// The inertia LP (problem/inertia_bound.hpp) against lemke, which solves the step exactly,
+// on two openings of the default packing: 38–265 is dynamic (lemke's inertia ratio 4.6e-2),
+// 49–208 quasi-static. The LP's bound is a lower bound of every answer's inertia ratio, so
+// it may decide the first without a solve, and must leave the second to the solver.
+TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  PerturbationOptions o;
+  o.backend = "lemke";
+  o.check_linearity = false;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  PerturbationOptions with_lp = o;
+  with_lp.dynamic_precheck = true;
+
+  const PerturbationTarget dynamic = OpeningOf(base, 38, 265);
+  ASSERT_EQ(dynamic.i, 38);
+  const PerturbationResult solved = Perturb(base, dynamic, o);
+  const PerturbationResult decided = Perturb(base, dynamic, with_lp);
+  ASSERT_EQ(solved.status, "dynamic") << solved.solve.message;
+  EXPECT_EQ(decided.status, "dynamic");
+  EXPECT_EQ(decided.solve.backend, "inertia LP");
+  EXPECT_TRUE(std::isnan(decided.f_crit));
+  EXPECT_GT(decided.inertia_ratio, 10.0 * o.max_inertia_ratio);
+  EXPECT_LE(decided.inertia_ratio, solved.inertia_ratio) << "a lower bound of the answer's inertia";
+
+  const PerturbationTarget quasi_static = OpeningOf(base, 49, 208);
+  ASSERT_EQ(quasi_static.i, 49);
+  const PerturbationResult plain = Perturb(base, quasi_static, o);
+  const PerturbationResult checked = Perturb(base, quasi_static, with_lp);
+  ASSERT_EQ(plain.status, "ok") << plain.solve.message;
+  EXPECT_EQ(checked.status, "ok");
+  EXPECT_EQ(checked.solve.backend, "lemke");
+  EXPECT_EQ(checked.f_crit, plain.f_crit) << "the LP only decides; the solve is the same";
+}
+
 TEST(Perturbation, FrictionalQuasiStaticOpeningIsLinearInTheGap) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;

@@ -87,6 +87,13 @@ struct PerturbationOptions {
   // (SolverOptions::lemke_velocity_bound). Off by default: it costs every run of lemke on
   // a step that has no quasi-static solution (docs/perturbations.md, "At μ = 1").
   bool prefer_quasi_static = false;
+  // Before solving, an LP over the impulses alone (problem/inertia_bound.hpp) bounds from
+  // below the largest inertial force that any answer of the step has. Where that bound is
+  // above 10 max_inertia_ratio, the perturbation is `dynamic` and no solver runs (F_crit
+  // NaN, no motion: docs/perturbations.md, "Dynamic before solving"). Off by default: the
+  // solvers resolve most dynamic steps and report their motion, and on the N = 3000
+  // packing the LP costs more than newton on the openings it cannot decide.
+  bool dynamic_precheck = false;
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
 double DetectionMargin(const PerturbationOptions& options);
@@ -135,7 +142,9 @@ struct PerturbationResult {
   double penetration_depth = 0.0;       // δ = Σ|d_i| |r_i·n| / Σ|d_i|
   double cell_strain = 0.0;             // λ = ΔL/L (fixed pressure)
   double pressure_change = 0.0;         // P_after − P_before from the virial (periodic cells)
-  double inertia_ratio = 0.0;           // max_i m_i |d_i| / Δt² over the mean contact force
+  // The largest inertial force over its scale: max_i m_i |d_i| / Δt² over the mean contact
+  // force F̄, I_i |θ_i| / Δt² over F̄ R_i, and the cell's M_λ D V |ε| / Δt² over D V P_ext.
+  double inertia_ratio = 0.0;
   // The part of F_crit that accelerates the grains and the cell: [Σ (m_i |d_i|² + I_i θ_i²)
   // + M_λ D V λ²] / (ξ Δt²). By virtual work over the step, a frictionless quasi-static
   // opening has F_crit = F_cont + inertial_force: O(ξ), however small each grain's inertial
@@ -161,7 +170,9 @@ struct PerturbationResult {
   // "ok"; "dynamic" (resolved, not quasi-static); "not-converged" (not resolved);
   // "nonlinear" (quasi-static, but not the same response at 10ξ: check_linearity);
   // "blocked" (no motion satisfies the step's non-penetration: F_crit is NaN;
-  // problem/kinematic_admissibility.hpp)
+  // problem/kinematic_admissibility.hpp). A `dynamic` decided before solving
+  // (dynamic_precheck) has F_crit NaN, no motion, and its inertia_ratio is the LP's lower
+  // bound.
   std::string status;
   double seconds = 0.0;
 };
