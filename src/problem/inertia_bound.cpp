@@ -1,6 +1,7 @@
 #include "unjam/problem/inertia_bound.hpp"
 
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -62,21 +63,16 @@ void AddInertiaRows(const ContactProblem& p, const Eigen::VectorXd& scale, doubl
     lp.Add(above, t_column, 1.0);
   }
 }
-}  // namespace
 
-InertiaBound SmallestInertia(const ContactProblem& p, const Eigen::VectorXd& scale) {
+void CheckScales(const ContactProblem& p, const Eigen::VectorXd& scale) {
   if (scale.size() != p.NumDofs() || (scale.array() <= 0.0).any()) {
     throw std::invalid_argument("SmallestInertia: one positive force scale per degree of freedom");
   }
+}
+
+// Runs the dual simplex on `model` (from whatever basis it holds) and reads t.
+InertiaBound Solve(ClpSimplex& model, int t_column) {
   InertiaBound out;
-  if (p.NumDofs() == 0) return out;
-  const double reference = scale.minCoeff();
-  lp::LpTriplets lp;
-  const ImpulseColumns columns = AddImpulseColumns(p, lp);
-  const int t_column = lp.AddColumns(1, 0.0, kInfinity, 1.0);
-  AddInertiaRows(p, scale, reference, t_column, columns, lp);
-  ClpSimplex model;
-  lp::LoadIntoClp(lp, 1e-9, model);
   model.dual();
   out.iterations = model.numberIterations();
   if (model.status() != 0) {
@@ -86,6 +82,61 @@ InertiaBound SmallestInertia(const ContactProblem& p, const Eigen::VectorXd& sca
   }
   out.ratio = model.getColSolution()[t_column];
   return out;
+}
+}  // namespace
+
+InertiaBound SmallestInertia(const ContactProblem& p, const Eigen::VectorXd& scale) {
+  CheckScales(p, scale);
+  if (p.NumDofs() == 0) return {};
+  lp::LpTriplets lp;
+  const ImpulseColumns columns = AddImpulseColumns(p, lp);
+  const int t_column = lp.AddColumns(1, 0.0, kInfinity, 1.0);
+  AddInertiaRows(p, scale, scale.minCoeff(), t_column, columns, lp);
+  ClpSimplex model;
+  lp::LoadIntoClp(lp, 1e-9, model);
+  return Solve(model, t_column);
+}
+
+struct HeldContactInertia::Model {
+  ClpSimplex solved;
+  bool ready = false;
+  int t_column = -1;
+  std::vector<std::vector<int>> law_columns;  // per contact: its cone's columns
+  std::vector<int> held_column;               // per contact: its spare free normal column
+};
+
+HeldContactInertia::HeldContactInertia(const ContactProblem& p, const Eigen::VectorXd& scale) : model_(std::make_unique<Model>()) {
+  CheckScales(p, scale);
+  if (p.NumDofs() == 0) return;
+  lp::LpTriplets lp;
+  ImpulseColumns columns = AddImpulseColumns(p, lp);
+  Model& m = *model_;
+  const int per = p.UnknownsPerContact();
+  m.law_columns.resize(p.NumContacts());
+  m.held_column.resize(p.NumContacts());
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    for (const auto& entry : columns.of_unknown[k * per]) m.law_columns[k].push_back(entry.first);
+    m.held_column[k] = lp.AddColumns(1, 0.0, 0.0);  // the normal direction only, released when held
+    columns.of_unknown[k * per].push_back({m.held_column[k], 1.0});
+  }
+  m.t_column = lp.AddColumns(1, 0.0, kInfinity, 1.0);
+  AddInertiaRows(p, scale, scale.minCoeff(), m.t_column, columns, lp);
+  lp::LoadIntoClp(lp, 1e-9, m.solved);
+  m.ready = Solve(m.solved, m.t_column).decided;
+}
+
+HeldContactInertia::~HeldContactInertia() = default;
+
+bool HeldContactInertia::ready() const { return model_->ready; }
+
+InertiaBound HeldContactInertia::WithHeld(int contact) const {
+  const Model& m = *model_;
+  if (!m.ready) return {0.0, false, "the unperturbed inertia LP was not solved", 0};
+  if (contact < 0 || contact >= static_cast<int>(m.held_column.size())) throw std::out_of_range("HeldContactInertia: no such contact");
+  ClpSimplex model(m.solved);  // its basis and solution: the dual simplex continues from them
+  for (int column : m.law_columns[contact]) model.setColumnBounds(column, 0.0, 0.0);
+  model.setColumnBounds(m.held_column[contact], -kInfinity, kInfinity);
+  return Solve(model, m.t_column);
 }
 
 }  // namespace unjam

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <deque>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -19,6 +20,13 @@
 #include "unjam/protocols/static_solve.hpp"
 
 namespace unjam {
+
+// The shared inertia LP of a base's contact openings (PerturbationBase::opening_inertia_lp).
+struct OpeningInertiaLp {
+  std::once_flag once;
+  std::unique_ptr<HeldContactInertia> lp;
+  std::vector<Contact> contacts;  // of the unperturbed step's problem, in its order
+};
 
 const char* ToString(CellCondition condition) {
   return condition == CellCondition::kFixedPressure ? "fixed-pressure" : "fixed-volume";
@@ -317,6 +325,7 @@ PerturbationBase PreparePerturbations(const Scene& static_scene, const Perturbat
     ++free_particles;
   }
   base.mean_mass = free_particles > 0 ? base.mean_mass / free_particles : 1.0;
+  if (options.dynamic_precheck) base.opening_inertia_lp = std::make_shared<OpeningInertiaLp>();
   return base;
 }
 
@@ -375,12 +384,49 @@ PerturbationResult Blocked(const PerturbationBase& base, const std::string& deci
 // above the threshold leaves no doubt (on the dynamic openings measured it is 1e-4 to 2e-2).
 constexpr double kDynamicBoundFactor = 10.0;
 
+// The contact of each problem contact of a posed step, in the problem's order.
+std::vector<Contact> ProblemContacts(const StaticProblem& posed) {
+  std::vector<Contact> out;
+  for (int source : posed.assembled.source_contact) out.push_back(posed.contacts[source]);
+  return out;
+}
+
+bool SameContacts(const std::vector<Contact>& a, const std::vector<Contact>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k].i != b[k].i || a[k].j != b[k].j || a[k].image != b[k].image) return false;
+  }
+  return true;
+}
+
+// The inertia LP's bound for a posed step: for a contact opening whose step has the
+// unperturbed step's contacts, continued from the unperturbed LP (solved once per base);
+// otherwise (shifts) solved from scratch.
+InertiaBound StepInertiaBound(const PerturbationBase& base, const PerturbationTarget& target, const StaticProblem& posed,
+                              const PerturbationOptions& options) {
+  const ContactProblem& p = posed.assembled.problem;
+  OpeningInertiaLp* shared = base.opening_inertia_lp.get();
+  if (target.kind == PerturbationTarget::Kind::kContactOpening && shared != nullptr) {
+    std::call_once(shared->once, [&] {
+      const StaticProblem unperturbed = PoseStaticProblem(base.scene, StepOptions(base, options));
+      shared->contacts = ProblemContacts(unperturbed);
+      shared->lp = std::make_unique<HeldContactInertia>(unperturbed.assembled.problem, InertiaScales(base, unperturbed.assembled));
+    });
+    int held = -1;
+    for (int k = 0; k < p.NumContacts(); ++k) {
+      if (p.contacts[k].kind == ConstraintKind::kBilateral) held = k;
+    }
+    if (held >= 0 && shared->lp->ready() && SameContacts(ProblemContacts(posed), shared->contacts)) return shared->lp->WithHeld(held);
+  }
+  return SmallestInertia(p, InertiaScales(base, posed.assembled));
+}
+
 // A step that no answer can end near rest: dynamic, decided by the inertia LP, whose bound
 // is reported as the inertia ratio (docs/perturbations.md, "Dynamic before solving").
 std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& base, const StaticProblem& posed,
                                                        const PerturbationOptions& options, const PerturbationResult& r,
                                                        Clock::time_point start) {
-  const InertiaBound bound = SmallestInertia(posed.assembled.problem, InertiaScales(base, posed.assembled));
+  const InertiaBound bound = StepInertiaBound(base, r.target, posed, options);
   if (!bound.decided || bound.ratio <= kDynamicBoundFactor * options.max_inertia_ratio) return std::nullopt;
   PerturbationResult d = r;
   d.solve.status = SolveStatus::kConverged;

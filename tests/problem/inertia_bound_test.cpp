@@ -3,6 +3,7 @@
 #include "unjam/problem/inertia_bound.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -81,6 +82,31 @@ TEST(InertiaBound, OnlyABilateralContactHoldsADiskFromAbove) {
     const double expected = kind == ConstraintKind::kUnilateral ? 1.0 : 0.0;
     EXPECT_NEAR(SmallestInertia(p, Scales(p)).ratio, expected, 1e-9);
   }
+}
+
+// Holding a contact open, continued from the unperturbed LP, is the LP of the held step.
+// The smooth disk of the incline above (μ = 0.1) resting on two coincident contacts:
+// unperturbed, as on one, (sin θ − μ cos θ) / (1 + μ); with either held (bilateral,
+// frictionless), the held one can pull while the other pushes as hard as needed, so the
+// other's friction is unbounded and only the rolling limit sin θ / 2 is left.
+TEST(InertiaBound, TheContinuedLpOfAHeldContactIsTheHeldStepsLp) {
+  const double theta = 0.3, mu = 0.1;
+  ContactProblem p = DiskOnIncline(theta, mu, 1.0);
+  p.contacts.push_back(p.contacts[0]);
+  const HeldContactInertia continued(p, Scales(p));
+  ASSERT_TRUE(continued.ready());
+  EXPECT_NEAR(SmallestInertia(p, Scales(p)).ratio, (std::sin(theta) - mu * std::cos(theta)) / (1.0 + mu), 1e-9);
+  for (int k : {0, 1}) {
+    ContactProblem held = p;
+    held.contacts[k].kind = ConstraintKind::kBilateral;
+    held.contacts[k].mu = 0.0;
+    const InertiaBound cold = SmallestInertia(held, Scales(held));
+    const InertiaBound warm = continued.WithHeld(k);
+    ASSERT_TRUE(cold.decided && warm.decided);
+    EXPECT_NEAR(cold.ratio, 0.5 * std::sin(theta), 1e-9) << k;
+    EXPECT_NEAR(warm.ratio, cold.ratio, 1e-9) << k;
+  }
+  EXPECT_THROW(continued.WithHeld(2), std::out_of_range);
 }
 
 TEST(InertiaBound, ScalesMustBePositiveOnePerDegreeOfFreedom) {

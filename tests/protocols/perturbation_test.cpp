@@ -457,6 +457,17 @@ TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
   EXPECT_TRUE(std::isnan(decided.f_crit));
   EXPECT_GT(decided.inertia_ratio, 10.0 * o.max_inertia_ratio);
   EXPECT_LE(decided.inertia_ratio, solved.inertia_ratio) << "a lower bound of the answer's inertia";
+  // The opening's LP continued from the unperturbed one (the base shares it) against the
+  // same LP from scratch (a base without it).
+  const PerturbationBase lp_base = PreparePerturbations(scene, with_lp);
+  ASSERT_NE(lp_base.opening_inertia_lp, nullptr);
+  PerturbationBase cold_base = lp_base;
+  cold_base.opening_inertia_lp.reset();
+  const PerturbationResult continued = Perturb(lp_base, dynamic, with_lp);
+  const PerturbationResult cold = Perturb(cold_base, dynamic, with_lp);
+  EXPECT_EQ(cold.status, "dynamic");
+  EXPECT_NEAR(continued.inertia_ratio, cold.inertia_ratio, 1e-8);
+  EXPECT_LT(continued.solve.iterations, cold.solve.iterations) << "simplex pivots";
 
   const PerturbationTarget quasi_static = OpeningOf(base, 49, 208);
   ASSERT_EQ(quasi_static.i, 49);

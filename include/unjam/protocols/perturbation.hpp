@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -92,7 +93,7 @@ struct PerturbationOptions {
   // above 10 max_inertia_ratio, the perturbation is `dynamic` and no solver runs (F_crit
   // NaN, no motion: docs/perturbations.md, "Dynamic before solving"). Off by default: the
   // solvers resolve most dynamic steps and report their motion, and on the N = 3000
-  // packing the LP costs more than newton on the openings it cannot decide.
+  // packing the LP decides only the openings newton resolves as dynamic, more slowly.
   bool dynamic_precheck = false;
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
@@ -177,6 +178,8 @@ struct PerturbationResult {
   double seconds = 0.0;
 };
 
+struct OpeningInertiaLp;  // perturbation.cpp
+
 // The static packing a set of perturbations starts from: the scene at rest with its
 // stored forces (which must be static: checked once, see PreparePerturbations).
 struct PerturbationBase {
@@ -187,6 +190,10 @@ struct PerturbationBase {
   double pressure = 0.0;                // virial pressure of the static forces (periodic)
   double mean_radius = 0.0;
   double mean_mass = 0.0;               // of the free particles
+  // With dynamic_precheck: the inertia LP of the unperturbed step, which every contact
+  // opening continues (problem/inertia_bound.hpp, HeldContactInertia); solved by the first
+  // opening that needs it, shared by all.
+  std::shared_ptr<OpeningInertiaLp> opening_inertia_lp;
 };
 
 // The unjam residual is an impulse error over the mean impulse F̄Δt (docs/residual.md). A
