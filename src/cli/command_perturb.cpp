@@ -53,8 +53,8 @@ void PerturbFlags::Register(CLI::App& a) {
              "lemke: where a run ends on a solution in which some grain moves fast enough to make the step dynamic, "
              "try the remaining runs and report the first quasi-static solution (if none, the first solution)");
   a.add_flag("--dynamic-lp", dynamic_lp,
-             "before solving, an LP over the contact forces bounds the step's inertial forces from below; where that "
-             "bound makes the step dynamic, report it dynamic (F_crit nan, no motion) without solving");
+             "contact openings: before solving, an LP over the contact forces bounds the step's inertial forces from "
+             "below; where that bound makes the step dynamic, report it dynamic (F_crit nan, no motion) without solving");
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
   solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;

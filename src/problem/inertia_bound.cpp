@@ -85,9 +85,13 @@ InertiaBound Solve(ClpSimplex& model, int t_column) {
 }
 }  // namespace
 
+// Without a load (every free velocity zero: no gravity, no pressure bath, at rest) zero
+// impulses leave every degree of freedom at rest: t* = 0 without an LP.
+bool Unloaded(const ContactProblem& p) { return FreeVelocityVector(p).isZero(0.0); }
+
 InertiaBound SmallestInertia(const ContactProblem& p, const Eigen::VectorXd& scale) {
   CheckScales(p, scale);
-  if (p.NumDofs() == 0) return {};
+  if (p.NumDofs() == 0 || Unloaded(p)) return {};
   lp::LpTriplets lp;
   const ImpulseColumns columns = AddImpulseColumns(p, lp);
   const int t_column = lp.AddColumns(1, 0.0, kInfinity, 1.0);
@@ -100,6 +104,7 @@ InertiaBound SmallestInertia(const ContactProblem& p, const Eigen::VectorXd& sca
 struct HeldContactInertia::Model {
   ClpSimplex solved;
   bool ready = false;
+  bool unloaded = false;  // t* = 0 for every held contact, no LP
   int t_column = -1;
   std::vector<std::vector<int>> law_columns;  // per contact: its cone's columns
   std::vector<int> held_column;               // per contact: its spare free normal column
@@ -108,6 +113,10 @@ struct HeldContactInertia::Model {
 HeldContactInertia::HeldContactInertia(const ContactProblem& p, const Eigen::VectorXd& scale) : model_(std::make_unique<Model>()) {
   CheckScales(p, scale);
   if (p.NumDofs() == 0) return;
+  if (Unloaded(p)) {
+    model_->unloaded = true;
+    return;
+  }
   lp::LpTriplets lp;
   ImpulseColumns columns = AddImpulseColumns(p, lp);
   Model& m = *model_;
@@ -127,10 +136,11 @@ HeldContactInertia::HeldContactInertia(const ContactProblem& p, const Eigen::Vec
 
 HeldContactInertia::~HeldContactInertia() = default;
 
-bool HeldContactInertia::ready() const { return model_->ready; }
+bool HeldContactInertia::ready() const { return model_->ready || model_->unloaded; }
 
 InertiaBound HeldContactInertia::WithHeld(int contact) const {
   const Model& m = *model_;
+  if (m.unloaded) return {};
   if (!m.ready) return {0.0, false, "the unperturbed inertia LP was not solved", 0};
   if (contact < 0 || contact >= static_cast<int>(m.held_column.size())) throw std::out_of_range("HeldContactInertia: no such contact");
   ClpSimplex model(m.solved);  // its basis and solution: the dual simplex continues from them

@@ -26,6 +26,7 @@ struct OpeningInertiaLp {
   std::once_flag once;
   std::unique_ptr<HeldContactInertia> lp;
   std::vector<Contact> contacts;  // of the unperturbed step's problem, in its order
+  int dofs = 0;                   // its degrees of freedom (the cell's included)
 };
 
 const char* ToString(CellCondition condition) {
@@ -399,24 +400,28 @@ bool SameContacts(const std::vector<Contact>& a, const std::vector<Contact>& b) 
   return true;
 }
 
-// The inertia LP's bound for a posed step: for a contact opening whose step has the
-// unperturbed step's contacts, continued from the unperturbed LP (solved once per base);
-// otherwise (shifts) solved from scratch.
-InertiaBound StepInertiaBound(const PerturbationBase& base, const PerturbationTarget& target, const StaticProblem& posed,
-                              const PerturbationOptions& options) {
+// The inertia LP's bound for a posed contact opening: continued from the unperturbed LP
+// (solved once per base) where the step has the unperturbed step's contacts, otherwise
+// solved from scratch.
+InertiaBound StepInertiaBound(const PerturbationBase& base, const StaticProblem& posed, const PerturbationOptions& options) {
   const ContactProblem& p = posed.assembled.problem;
+  if (FreeVelocityVector(p).isZero(0.0)) return {};  // unloaded (fixed volume): zero forces balance it
   OpeningInertiaLp* shared = base.opening_inertia_lp.get();
-  if (target.kind == PerturbationTarget::Kind::kContactOpening && shared != nullptr) {
+  if (shared != nullptr) {
     std::call_once(shared->once, [&] {
       const StaticProblem unperturbed = PoseStaticProblem(base.scene, StepOptions(base, options));
       shared->contacts = ProblemContacts(unperturbed);
+      shared->dofs = unperturbed.assembled.problem.NumDofs();
       shared->lp = std::make_unique<HeldContactInertia>(unperturbed.assembled.problem, InertiaScales(base, unperturbed.assembled));
     });
     int held = -1;
     for (int k = 0; k < p.NumContacts(); ++k) {
       if (p.contacts[k].kind == ConstraintKind::kBilateral) held = k;
     }
-    if (held >= 0 && shared->lp->ready() && SameContacts(ProblemContacts(posed), shared->contacts)) return shared->lp->WithHeld(held);
+    // The same step but for the held contact (at fixed volume the cell is frozen: another
+    // step, and an unloaded one).
+    const bool same_step = p.NumDofs() == shared->dofs && SameContacts(ProblemContacts(posed), shared->contacts);
+    if (held >= 0 && same_step && shared->lp->ready()) return shared->lp->WithHeld(held);
   }
   return SmallestInertia(p, InertiaScales(base, posed.assembled));
 }
@@ -426,7 +431,7 @@ InertiaBound StepInertiaBound(const PerturbationBase& base, const PerturbationTa
 std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& base, const StaticProblem& posed,
                                                        const PerturbationOptions& options, const PerturbationResult& r,
                                                        Clock::time_point start) {
-  const InertiaBound bound = StepInertiaBound(base, r.target, posed, options);
+  const InertiaBound bound = StepInertiaBound(base, posed, options);
   if (!bound.decided || bound.ratio <= kDynamicBoundFactor * options.max_inertia_ratio) return std::nullopt;
   PerturbationResult d = r;
   d.solve.status = SolveStatus::kConverged;
@@ -562,7 +567,9 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
     const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
     if (kinematics.decided && !kinematics.admissible) return Blocked(base, "kinematic LP", kinematics.message, std::move(r), start);
   }
-  if (options.dynamic_precheck) {
+  // A shift's LP is the static state's with the shifted particle's balance dropped: the
+  // stored forces satisfy it, so its bound is zero and it can decide nothing.
+  if (options.dynamic_precheck && target.kind == PerturbationTarget::Kind::kContactOpening) {
     if (auto dynamic = DynamicBeforeSolving(base, posed, options, r, start)) return std::move(*dynamic);
   }
   StaticSolution s = SolveAndMeasure(base, perturbed, std::move(posed), solve, options, r);

@@ -468,6 +468,14 @@ TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
   EXPECT_EQ(cold.status, "dynamic");
   EXPECT_NEAR(continued.inertia_ratio, cold.inertia_ratio, 1e-8);
   EXPECT_LT(continued.solve.iterations, cold.solve.iterations) << "simplex pivots";
+  // At fixed volume the frozen cell leaves the step unloaded: zero forces balance it, the
+  // LP decides nothing (and must not answer with the fixed-pressure step's LP it shares).
+  PerturbationOptions frozen = with_lp;
+  frozen.cell = CellCondition::kFixedVolume;
+  frozen.backend = "newton";
+  frozen.solver.max_iterations = 1;
+  frozen.solver.newton_max_iterations = 1;
+  EXPECT_NE(Perturb(lp_base, dynamic, frozen).solve.backend, "inertia LP");
 
   const PerturbationTarget quasi_static = OpeningOf(base, 49, 208);
   ASSERT_EQ(quasi_static.i, 49);

@@ -13,6 +13,9 @@
 // non-penetration of the motion are not imposed, so t* is a lower bound, and t* = 0 says
 // only that some network of forces balances every degree of freedom.
 //
+// Without a load (every free velocity zero) zero impulses already give t* = 0: no LP is
+// solved. A frozen periodic cell (fixed volume) is such a step.
+//
 // The LP is posed in units of the scales (each row of p reads t* directly), so that CLP's
 // tolerances (1e-9 here) are relative to the threshold's units: t* is known to about 1e-9.
 #pragma once
