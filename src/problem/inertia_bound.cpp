@@ -83,11 +83,11 @@ InertiaBound Solve(ClpSimplex& model, int t_column) {
   out.ratio = model.getColSolution()[t_column];
   return out;
 }
-}  // namespace
 
 // Without a load (every free velocity zero: no gravity, no pressure bath, at rest) zero
 // impulses leave every degree of freedom at rest: t* = 0 without an LP.
 bool Unloaded(const ContactProblem& p) { return FreeVelocityVector(p).isZero(0.0); }
+}  // namespace
 
 InertiaBound SmallestInertia(const ContactProblem& p, const Eigen::VectorXd& scale) {
   CheckScales(p, scale);
