@@ -83,15 +83,14 @@ InertiaBound Solve(ClpSimplex& model, int t_column) {
   out.ratio = model.getColSolution()[t_column];
   return out;
 }
-
-// Without a load (every free velocity zero: no gravity, no pressure bath, at rest) zero
-// impulses leave every degree of freedom at rest: t* = 0 without an LP.
-bool Unloaded(const ContactProblem& p) { return FreeVelocityVector(p).isZero(0.0); }
 }  // namespace
+
+// Without a load zero impulses leave every degree of freedom at rest.
+bool IsUnloaded(const ContactProblem& p) { return FreeVelocityVector(p).isZero(0.0); }
 
 InertiaBound SmallestInertia(const ContactProblem& p, const Eigen::VectorXd& scale) {
   CheckScales(p, scale);
-  if (p.NumDofs() == 0 || Unloaded(p)) return {};
+  if (p.NumDofs() == 0 || IsUnloaded(p)) return {};
   lp::LpTriplets lp;
   const ImpulseColumns columns = AddImpulseColumns(p, lp);
   const int t_column = lp.AddColumns(1, 0.0, kInfinity, 1.0);
@@ -113,7 +112,7 @@ struct HeldContactInertia::Model {
 HeldContactInertia::HeldContactInertia(const ContactProblem& p, const Eigen::VectorXd& scale) : model_(std::make_unique<Model>()) {
   CheckScales(p, scale);
   if (p.NumDofs() == 0) return;
-  if (Unloaded(p)) {
+  if (IsUnloaded(p)) {
     model_->unloaded = true;
     return;
   }

@@ -405,7 +405,7 @@ bool SameContacts(const std::vector<Contact>& a, const std::vector<Contact>& b) 
 // solved from scratch.
 InertiaBound StepInertiaBound(const PerturbationBase& base, const StaticProblem& posed, const PerturbationOptions& options) {
   const ContactProblem& p = posed.assembled.problem;
-  if (FreeVelocityVector(p).isZero(0.0)) return {};  // unloaded (fixed volume): zero forces balance it
+  if (IsUnloaded(p)) return {};  // fixed volume: zero forces balance it, and the shared LP is not this step's
   OpeningInertiaLp* shared = base.opening_inertia_lp.get();
   if (shared != nullptr) {
     std::call_once(shared->once, [&] {

@@ -37,6 +37,9 @@ struct InertiaBound {
   int iterations = 0;    // simplex iterations
 };
 
+// Every free velocity zero (no gravity, no pressure bath, at rest): t* = 0, no LP needed.
+bool IsUnloaded(const ContactProblem& problem);
+
 // `force_scale`: s_d per degree of freedom (size NumDofs(), all positive).
 InertiaBound SmallestInertia(const ContactProblem& problem, const Eigen::VectorXd& force_scale);
 
