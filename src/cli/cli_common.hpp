@@ -63,6 +63,9 @@ std::string ExactNumber(double x);
 
 // A number, or null where it is not finite (JSON has no NaN or infinity).
 nlohmann::json NumberOrNull(double x);
+
+// FNV-1a of a file, 16 hex digits: a resumed run must start from the same packing.
+std::string FileFingerprint(const std::string& path);
 std::string EffectsSummary(const Scene& scene);
 const char* PeriodicityName(Periodicity p);
 

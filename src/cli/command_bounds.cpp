@@ -5,10 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
+#include <filesystem>
+#include <fstream>
 #include <optional>
+#include <sstream>
 
 #include "unjam/indeterminacy/force_bounds.hpp"
+#include "unjam/io/json_lines.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
 
@@ -31,7 +34,11 @@ void BoundsFlags::Register(CLI::App& a) {
   a.add_option("--mode", mode, "cell condition of --compare-perturb: fixed-pressure or fixed-volume")->capture_default_str();
   a.add_option("--gap-tol", gap_tolerance, "contacts with a gap up to this are contacts of the ensemble")->capture_default_str();
   a.add_option("--threads", threads, "threads (0: all cores)")->capture_default_str();
-  a.add_option("-o,--output", output, "CSV file, one row per contact");
+  CLI::Option* output_option = a.add_option("-o,--output", output, "CSV file, one row per contact; the bounds are recorded in OUTPUT.records.jsonl as they come, and a rerun resumes from it");
+  CLI::Option* limit_option = a.add_option("--time-limit", time_limit,
+               "start no LP after S seconds of this run; the bounds so far stay in OUTPUT.records.jsonl and the same command continues (contacts only)")
+      ->needs(output_option);
+  for (CLI::Option* shifts : {top_option, bottom_option, down_option, up_option}) limit_option->excludes(shifts);
   a.add_flag("--json", json, "one JSON object on stdout");
 }
 
@@ -161,6 +168,103 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
   return os.str();
 }
 
+// Long runs (docs/indeterminacy.md, "Long runs"): with -o FILE every bound is appended to
+// FILE.records.jsonl as it is obtained; a rerun of the same command takes those back and
+// solves only the others, and the records are removed once FILE is written.
+class BoundsRecords {
+ public:
+  BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsOptions& o)
+      : path_(f.output + ".records.jsonl") {
+    const nlohmann::json header = {{"unjam_bounds_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
+                                   {"packing_fnv1a", FileFingerprint(f.file)}, {"contacts", f.contacts}, {"selected", selected},
+                                   {"ensemble_contacts", s.contacts.size()}, {"lp", f.lp}, {"warm_start", o.warm_start},
+                                   {"gap_tolerance", f.gap_tolerance}, {"lp_tolerance", o.lp_tolerance}};
+    const bool fresh = !std::filesystem::exists(path_);
+    if (!fresh) Resume(header, static_cast<int>(s.contacts.size()));
+    log_.open(path_, std::ios::app | std::ios::binary);
+    if (!log_) throw OutputError(path_.string() + ": cannot open for writing");
+    if (fresh) log_ << header.dump() << '\n' << std::flush;
+  }
+  const std::vector<BoundRecord>& Known() const { return known_; }
+  long long KnownIterations() const { return known_iterations_; }
+  const std::filesystem::path& Path() const { return path_; }
+  // Called one at a time (BoundsOptions::on_bound).
+  void Add(const BoundRecord& r) {
+    log_ << nlohmann::json{{"contact", r.contact}, {"kind", ToString(r.kind)}, {"status", ToString(r.bound.status)},
+                           {"value", r.bound.ok() ? nlohmann::json(r.bound.value) : nlohmann::json(nullptr)},
+                           {"iterations", r.iterations}, {"shortcut", r.shortcut}}.dump()
+         << '\n' << std::flush;
+    if (!log_) throw OutputError(path_.string() + ": cannot append a bound");
+    ++written_;
+  }
+  long long Written() const { return written_; }
+  // The run is written out: the records are no longer needed.
+  void Remove() {
+    log_.close();
+    std::filesystem::remove(path_);
+  }
+
+ private:
+  void Resume(const nlohmann::json& header, int contacts) {
+    const JsonLines file = ReadJsonLines(path_);
+    RequireHeader(path_, file.header, header, "remove it or choose another --output");
+    std::filesystem::resize_file(path_, file.valid_bytes);  // drop a torn last line
+    for (const auto& [line, j] : file.lines) {
+      known_.push_back(FromJson(j, line, contacts));
+      known_iterations_ += known_.back().iterations;
+    }
+  }
+  BoundRecord FromJson(const nlohmann::json& j, int line, int contacts) const {
+    auto bad = [&](const std::string& why) { return InputError(path_.string(), line, "bad bound record: " + why); };
+    BoundRecord r;
+    try {
+      r.contact = j.at("contact").get<int>();
+      const std::optional<BoundKind> kind = BoundKindFromString(j.at("kind").get<std::string>());
+      const std::optional<BoundStatus> status = BoundStatusFromString(j.at("status").get<std::string>());
+      if (!kind || !status) throw bad("unknown kind or status");
+      r.kind = *kind;
+      r.bound.status = *status;
+      if (r.bound.ok()) r.bound.value = j.at("value").get<double>();
+      r.iterations = j.at("iterations").get<long long>();
+      r.shortcut = j.at("shortcut").get<bool>();
+    } catch (const nlohmann::json::exception& e) {
+      throw bad(e.what());
+    }
+    if (r.contact < 0 || r.contact >= contacts) throw bad("contact " + std::to_string(r.contact) + " is not in the ensemble");
+    if (r.bound.ok() && !std::isfinite(r.bound.value)) throw bad("a value that is not a finite number");
+    return r;
+  }
+
+  std::filesystem::path path_;
+  std::ofstream log_;
+  std::vector<BoundRecord> known_;
+  long long known_iterations_ = 0;
+  long long written_ = 0;
+};
+
+// --time-limit ended the run before every bound was obtained: no CSV; what was obtained is
+// in the records, from which the same command continues.
+int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsReport& report,
+                       const BoundsRecords& records, Clock::time_point start) {
+  const long long total = static_cast<long long>(selected) * (s.frictional ? 3 : 2);
+  const long long obtained = report.bounds_known + records.Written();
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (f.json) {
+    const nlohmann::json out = {{"file", f.file}, {"contacts", selected}, {"ensemble_contacts", s.contacts.size()},
+                                {"complete", false}, {"bounds_obtained", obtained}, {"bounds_total", total},
+                                {"records", records.Path().string()}, {"lp_iterations", report.lp_iterations},
+                                {"lp_seconds", report.seconds}, {"seconds", seconds}};
+    std::printf("%s\n", out.dump().c_str());
+  } else {
+    std::printf("contacts           %zu of %zu in the ensemble\n", selected, s.contacts.size());
+    std::printf("incomplete         %lld of %lld bounds obtained\n", obtained, total);
+    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations)\n", seconds, report.seconds, report.lp_iterations);
+  }
+  std::fprintf(stderr, "bounds: stopped at the time limit with %lld of %lld bounds; the same command continues from %s\n",
+               obtained, total, records.Path().string().c_str());
+  return kOk;
+}
+
 }  // namespace
 
 int RunBounds(const BoundsFlags& f) {
@@ -180,8 +284,22 @@ int RunBounds(const BoundsFlags& f) {
   bo.warm_start = !f.cold;
   bo.lp = lp;
   bo.threads = threads;
+  if (f.time_limit) {
+    if (!(std::isfinite(*f.time_limit) && *f.time_limit >= 0.0)) {
+      throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " + Format("%g", *f.time_limit));
+    }
+    bo.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
+  }
+  std::optional<BoundsRecords> records;
+  if (!f.output.empty()) {
+    records.emplace(f, system, selected.size(), bo);
+    bo.known = records->Known();
+    bo.on_bound = [&records](const BoundRecord& r) { records->Add(r); };
+    if (!bo.known.empty()) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());
+  }
   const BoundsReport report = ComputeForceBounds(system, selected, StoredForcesOf(system, scene.forces), bo);
   const Indeterminacy nd = ForceIndeterminacy(system);
+  if (!report.complete) return StoppedAtTimeLimit(f, system, selected.size(), report, *records, start);
   std::optional<Comparison> cmp;
   if (f.compare_perturb && report.feasible) cmp = ComparePerturbations(scene, system, report, f, threads);
 
@@ -200,7 +318,10 @@ int RunBounds(const BoundsFlags& f) {
       ++failed;
     }
   }
-  if (!f.output.empty()) WriteFileAtomically(f.output, Csv(system, report, cmp ? &*cmp : nullptr));
+  if (records) {
+    WriteFileAtomically(f.output, Csv(system, report, cmp ? &*cmp : nullptr));
+    records->Remove();
+  }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   nlohmann::json out = {{"file", f.file}, {"contacts", selected.size()}, {"ensemble_contacts", system.contacts.size()},
                         {"unknowns", nd.unknowns}, {"equations", nd.equations}, {"rank", nd.rank}, {"rank_qr_a", nd.rank_of_a}, {"rank_qr_transpose", nd.rank_transposed},
@@ -211,6 +332,7 @@ int RunBounds(const BoundsFlags& f) {
                         {"mean_fcont", references > 0 ? nlohmann::json(reference_sum / references) : nlohmann::json(nullptr)},
                         {"no_frictionless_equilibrium", no_pure_opening},
                         {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", report.lp_iterations}, {"lps_skipped", report.lps_skipped},
+                        {"bounds_resumed", report.bounds_known}, {"lp_iterations_resumed", records ? records->KnownIterations() : 0}, {"complete", true},
                         {"lp_seconds", report.seconds}, {"threads", lp == LpBackend::kIpopt ? 1 : threads}, {"seconds", seconds}};
   if (cmp) {
     out["compared"] = cmp->used;

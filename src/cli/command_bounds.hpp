@@ -29,6 +29,7 @@ struct BoundsFlags {
   double gap_tolerance = 1e-9;
   int threads = 0;
   std::string output;
+  std::optional<double> time_limit;  // seconds: no LP starts after it (contacts only)
   bool json = false;
 
   void Register(CLI::App& app);

@@ -15,6 +15,7 @@
 #include "mpi_session.hpp"
 #include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/io/packing_file.hpp"
+#include "unjam/io/json_lines.hpp"
 #include "unjam/io/particle_export.hpp"
 #include "unjam/io/response_records.hpp"
 #include "unjam/protocols/perturbation.hpp"
@@ -127,17 +128,6 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   return o;
 }
 
-// FNV-1a of the packing file: a resumed run must start from the same packing.
-std::string FileFingerprint(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::uint64_t h = 1469598103934665603ull;
-  char c;
-  while (in.get(c)) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
-  return buf;
-}
-
 // The backends' own options that change their answers, each only when not its default, so
 // that records written before they were kept here (all with the defaults) still resume.
 void AddNonDefaultBackendOptions(const SolverOptions& o, nlohmann::json& header) {
@@ -209,17 +199,7 @@ std::vector<std::filesystem::path> RecordsFiles(const std::filesystem::path& dir
 
 RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::json& header) {
   RecordsFile file = ReadRecords(records);
-  if (file.header != header) {
-    std::string keys;
-    for (const auto& [key, value] : header.items()) {
-      if (!file.header.contains(key) || file.header[key] != value) keys += (keys.empty() ? "" : ", ") + key;
-    }
-    for (const auto& [key, value] : file.header.items()) {
-      if (!header.contains(key)) keys += (keys.empty() ? "" : ", ") + key;
-    }
-    throw std::invalid_argument(records.string() + " holds a run with other parameters (" + keys +
-                                "): remove it or choose another --output directory");
-  }
+  RequireHeader(records, file.header, header, "remove it or choose another --output directory");
   return file;
 }
 

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
 #include <ClpSimplex.hpp>
@@ -23,6 +25,29 @@ const char* ToString(BoundStatus status) {
     case BoundStatus::kFailed: return "failed";
   }
   return "?";
+}
+
+std::optional<BoundStatus> BoundStatusFromString(const std::string& name) {
+  for (BoundStatus status : {BoundStatus::kOptimal, BoundStatus::kUnbounded, BoundStatus::kInfeasible, BoundStatus::kFailed}) {
+    if (name == ToString(status)) return status;
+  }
+  return std::nullopt;
+}
+
+const char* ToString(BoundKind kind) {
+  switch (kind) {
+    case BoundKind::kMax: return "max";
+    case BoundKind::kMaxWithoutFriction: return "max_without_friction";
+    case BoundKind::kMin: return "min";
+  }
+  return "?";
+}
+
+std::optional<BoundKind> BoundKindFromString(const std::string& name) {
+  for (BoundKind kind : {BoundKind::kMax, BoundKind::kMaxWithoutFriction, BoundKind::kMin}) {
+    if (name == ToString(kind)) return kind;
+  }
+  return std::nullopt;
 }
 
 const char* ToString(LpBackend backend) { return backend == LpBackend::kClp ? "clp" : "ipopt"; }
@@ -59,17 +84,15 @@ Bound Optimise(ClpSimplex& model, int column, double sign, bool warm, bool bound
 }
 
 // The bound of one kind for contact k.
-enum class Kind { kMin, kMax, kMaxWithoutFriction };
-
-Bound BoundOf(ClpSimplex& model, const EquilibriumSystem& s, int k, Kind kind, const BoundsOptions& o,
+Bound BoundOf(ClpSimplex& model, const EquilibriumSystem& s, int k, BoundKind kind, const BoundsOptions& o,
               long long& iterations) {
   const int normal = s.UnknownsPerContact() * k;
   if (o.lp == LpBackend::kIpopt) {
-    const int fixed = kind == Kind::kMaxWithoutFriction ? normal + 1 : -1;
-    return indeterminacy_internal::IpoptBound(s, normal, kind == Kind::kMin ? 1.0 : -1.0, fixed, o.lp_tolerance, iterations);
+    const int fixed = kind == BoundKind::kMaxWithoutFriction ? normal + 1 : -1;
+    return indeterminacy_internal::IpoptBound(s, normal, kind == BoundKind::kMin ? 1.0 : -1.0, fixed, o.lp_tolerance, iterations);
   }
-  if (kind == Kind::kMin) return Optimise(model, normal, 1.0, o.warm_start, false, s.force_scale, iterations);
-  if (kind == Kind::kMax) return Optimise(model, normal, -1.0, o.warm_start, false, s.force_scale, iterations);
+  if (kind == BoundKind::kMin) return Optimise(model, normal, 1.0, o.warm_start, false, s.force_scale, iterations);
+  if (kind == BoundKind::kMax) return Optimise(model, normal, -1.0, o.warm_start, false, s.force_scale, iterations);
   const int tangential = normal + 1;
   model.setColumnBounds(tangential, 0.0, 0.0);
   const Bound b = Optimise(model, normal, -1.0, o.warm_start, true, s.force_scale, iterations);
@@ -90,6 +113,32 @@ std::vector<int> SpatialOrder(const EquilibriumSystem& s, const std::vector<int>
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
   return order;
 }
+
+Bound& Slot(ContactBounds& b, BoundKind kind) {
+  return kind == BoundKind::kMin ? b.min : kind == BoundKind::kMax ? b.max : b.max_without_friction;
+}
+
+// BoundsOptions::known by contact and kind, and the serialised BoundsOptions::on_bound.
+class BoundLog {
+ public:
+  explicit BoundLog(const BoundsOptions& o) : on_bound_(o.on_bound) {
+    for (const BoundRecord& r : o.known) known_[{r.contact, r.kind}] = r.bound;
+  }
+  const Bound* Known(int contact, BoundKind kind) const {
+    const auto it = known_.find({contact, kind});
+    return it == known_.end() ? nullptr : &it->second;
+  }
+  void Add(const BoundRecord& r) {
+    if (!on_bound_) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    on_bound_(r);
+  }
+
+ private:
+  std::map<std::pair<int, BoundKind>, Bound> known_;
+  const std::function<void(const BoundRecord&)>& on_bound_;
+  std::mutex mutex_;
+};
 
 }  // namespace
 
@@ -125,7 +174,9 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
     report.bounds[a].contact = contacts[a];
     report.bounds[a].reference = reference.size() > 0 ? reference[stride * contacts[a]] : 0.0;
   }
-  std::vector<long long> skipped(blocks, 0);
+  std::vector<long long> skipped(blocks, 0), known(blocks, 0);
+  std::vector<char> stopped(blocks, 0);
+  BoundLog log(options);
   auto run_block = [&](int block) {
     ClpSimplex model(*base);
     // Refactorise every 100 pivots instead of CLP's 200: the updates of the factors grow
@@ -146,32 +197,40 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
     if (shortcuts) record(model);
     // Maxima first: their solutions, like every optimal one, are admissible networks, and
     // the contacts they leave without force need no minimisation.
-    for (Kind kind : {Kind::kMax, Kind::kMaxWithoutFriction, Kind::kMin}) {
-      if (kind == Kind::kMaxWithoutFriction && !system.frictional) {  // the same LP as max
+    for (BoundKind kind : {BoundKind::kMax, BoundKind::kMaxWithoutFriction, BoundKind::kMin}) {
+      if (kind == BoundKind::kMaxWithoutFriction && !system.frictional) {  // the same LP as max
         for (std::size_t a = first; a < last; ++a) report.bounds[order[a]].max_without_friction = report.bounds[order[a]].max;
         continue;
       }
       for (std::size_t a = first; a < last; ++a) {
         ContactBounds& b = report.bounds[order[a]];
         const int k = b.contact;
+        if (const Bound* given = log.Known(k, kind)) {
+          Slot(b, kind) = *given;
+          ++known[block];
+          continue;
+        }
         // Exact shortcuts. An admissible network with f_n,k = 0 exists: min f_n,k = 0. The
         // maximising network carries no tangential force at k: it is also the maximum
         // without friction (which is never larger).
-        if (shortcuts && kind == Kind::kMin && zero_seen[k]) {
-          b.min = Bound{BoundStatus::kOptimal, 0.0};
+        const bool zero_min = shortcuts && kind == BoundKind::kMin && zero_seen[k];
+        if (zero_min || (shortcuts && kind == BoundKind::kMaxWithoutFriction && max_without_tangential[k])) {
+          Slot(b, kind) = zero_min ? Bound{BoundStatus::kOptimal, 0.0} : b.max;
           ++skipped[block];
+          log.Add({k, kind, Slot(b, kind), 0, true});
           continue;
         }
-        if (shortcuts && kind == Kind::kMaxWithoutFriction && max_without_tangential[k]) {
-          b.max_without_friction = b.max;
-          ++skipped[block];
-          continue;
+        if (options.start_before && std::chrono::steady_clock::now() >= *options.start_before) {
+          stopped[block] = 1;
+          return;
         }
+        const long long before = iterations[block];
         const Bound bound = BoundOf(model, system, k, kind, options, iterations[block]);
-        (kind == Kind::kMin ? b.min : kind == Kind::kMax ? b.max : b.max_without_friction) = bound;
+        Slot(b, kind) = bound;
+        log.Add({k, kind, bound, iterations[block] - before, false});
         if (!shortcuts || !bound.ok()) continue;
         record(model);
-        if (kind == Kind::kMax && system.frictional &&
+        if (kind == BoundKind::kMax && system.frictional &&
             std::abs(model.primalColumnSolution()[stride * k + 1]) <= options.lp_tolerance) {
           max_without_tangential[k] = 1;
         }
@@ -181,6 +240,8 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
   indeterminacy_internal::RunBlocks(blocks, run_block);
   for (long long i : iterations) report.lp_iterations += i;
   for (long long i : skipped) report.lps_skipped += i;
+  for (long long i : known) report.bounds_known += i;
+  report.complete = std::count(stopped.begin(), stopped.end(), 1) == 0;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

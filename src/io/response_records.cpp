@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include "unjam/io/json_lines.hpp"
 #include "unjam/io/packing_file.hpp"
 
 namespace unjam {
@@ -98,35 +99,14 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
 }
 
 RecordsFile ReadRecords(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "cannot open for reading");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  JsonLines file = ReadJsonLines(path);
   RecordsFile out;
-  std::size_t begin = 0;
-  int line = 0;
-  while (begin < text.size()) {
-    const std::size_t end = text.find('\n', begin);
-    if (end == std::string::npos) break;  // torn last line: ignored
-    ++line;
-    const std::string where = path.string() + ":" + std::to_string(line);
-    nlohmann::json j;
-    try {
-      j = nlohmann::json::parse(text.substr(begin, end - begin));
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(path.string(), line, std::string("not a JSON object: ") + e.what());
-    }
-    if (line == 1) {
-      out.header = j;
-    } else {
-      if (!j.contains("index") || !j["index"].is_number_integer()) throw InputError(path.string(), line, "record without an integer \"index\"");
-      out.records.emplace_back(j["index"].get<int>(), ReducedResponseFromJson(j, where));
-    }
-    begin = end + 1;
+  out.header = std::move(file.header);
+  out.valid_bytes = file.valid_bytes;
+  for (const auto& [line, j] : file.lines) {
+    if (!j.contains("index") || !j["index"].is_number_integer()) throw InputError(path.string(), line, "record without an integer \"index\"");
+    out.records.emplace_back(j["index"].get<int>(), ReducedResponseFromJson(j, path.string() + ":" + std::to_string(line)));
   }
-  out.valid_bytes = begin;
-  if (line == 0) throw InputError(path.string(), 1, "empty records file (no header line)");
   return out;
 }
 

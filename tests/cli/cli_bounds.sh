@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `unjam bounds`: the frictionless V-groove (one network: zero width, F_crit = LP max), the
 # frictional one (the analytic interval), the shifts of the small pile (every quasi-static
-# F_crit that perturb finds inside its LP interval), CSV and JSON, and bad input.
+# F_crit that perturb finds inside its LP interval), CSV and JSON, a run resumed from its
+# records, and bad input.
 # Usage: cli_bounds.sh UNJAM_BINARY SOURCE_DIR
 source "$(dirname "$0")/harness.bash" "$@"
 
@@ -115,12 +116,46 @@ expect_code 2 "--top with --contacts" "$unjam" bounds "$src/problems/gravity-n10
 expect_code 2 "--top with --bottom" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --bottom
 expect_code 2 "--top with --lp ipopt" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --lp ipopt
 
+# Long runs: --time-limit 0 obtains no bound and writes no CSV, only the records' header;
+# a rerun takes back what the records hold (here a hand-made max of contact 0, and a torn
+# last line as a kill leaves) and solves the rest, writes the CSV and removes the records.
+"$unjam" bounds "$work/g5.unjam" --time-limit 0 --json -o "$work/long.csv" >"$work/long.json" 2>"$work/err" || fail "--time-limit 0: exit $?"
+[ ! -e "$work/long.csv" ] || fail "--time-limit 0 wrote a CSV"
+grep -q '"complete":false' "$work/long.json" || fail "--time-limit 0 did not say incomplete: $(cat "$work/long.json")"
+grep -q "the same command continues" "$work/err" || fail "--time-limit 0 did not say how to continue: $(cat "$work/err")"
+[ "$(wc -l <"$work/long.csv.records.jsonl")" -eq 1 ] || fail "--time-limit 0 recorded bounds"
+printf '{"contact":0,"kind":"max","status":"optimal","value":1234.5,"iterations":7,"shortcut":false}\n{"contact":1,"ki' >>"$work/long.csv.records.jsonl"
+"$unjam" bounds "$work/g5.unjam" --json -o "$work/long.csv" >"$work/long.json" 2>"$work/err" || fail "bounds resumed: exit $?"
+[ ! -e "$work/long.csv.records.jsonl" ] || fail "the records outlived the CSV"
+/usr/bin/python3 - "$work/long.json" "$work/long.csv" <<'PY' || fail "bounds resumed from the records"
+import csv, json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["complete"] and d["bounds_resumed"] == 1 and d["lp_iterations_resumed"] == 7, d
+rows = {r["contact"]: r for r in csv.DictReader(open(sys.argv[2]))}
+assert float(rows["0"]["max"]) == 1234.5, rows["0"]        # taken from the records, not solved
+assert abs(float(rows["1"]["max"]) - math.pi) < 1e-10, rows["1"]
+assert abs(float(rows["0"]["min"]) - math.pi / 2.2) < 1e-10, rows["0"]
+PY
+"$unjam" bounds "$work/g5.unjam" --time-limit 0 -o "$work/long.csv" >/dev/null 2>&1 || fail "--time-limit 0 again: exit $?"
+expect_code 2 "records of other parameters" "$unjam" bounds "$work/g5.unjam" --gap-tol 1e-8 -o "$work/long.csv"
+grep -q "other parameters (gap_tolerance)" "$work/err" || fail "the error does not name the parameter: $(cat "$work/err")"
+rm -f "$work/long.csv"
+printf 'not json\n{"contact":0}\n' >>"$work/long.csv.records.jsonl"
+expect_code 1 "a bad line in the records" "$unjam" bounds "$work/g5.unjam" -o "$work/long.csv"
+grep -q "long.csv.records.jsonl:2" "$work/err" || fail "the error does not name the file and line: $(cat "$work/err")"
+[ ! -e "$work/long.csv" ] || fail "bad records left a CSV"
+expect_code 2 "--time-limit without -o" "$unjam" bounds "$work/g5.unjam" --time-limit 5
+expect_code 2 "--time-limit with --top" "$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --time-limit 5 -o "$work/t.csv"
+expect_code 2 "--time-limit -1" "$unjam" bounds "$work/g5.unjam" --time-limit -1 -o "$work/neg.csv"
+[ ! -e "$work/neg.csv.records.jsonl" ] || fail "--time-limit -1 left records"
+
 check() {  # expected-exit description args...
   local want="$1" what="$2"; shift 2
   "$unjam" bounds "$@" -o "$work/bad.csv" >/dev/null 2>"$work/err"; local code=$?
   [ "$code" -eq "$want" ] || fail "$what: exit $code, expected $want"
   [ -s "$work/err" ] || fail "$what: no error message"
   [ ! -e "$work/bad.csv" ] || { fail "$what: left a CSV"; rm -f "$work/bad.csv"; }
+  [ ! -e "$work/bad.csv.records.jsonl" ] || { fail "$what: left records"; rm -f "$work/bad.csv.records.jsonl"; }
 }
 check 2 "--contacts x" "$work/g5.unjam" --contacts x
 check 2 "--contacts 9" "$work/g5.unjam" --contacts 9

@@ -3,6 +3,8 @@
 // no upper bound when friction can wedge the disk), a disk on a floor between two walls
 // (hyperstatic: the squeeze between the walls is free), and the frictionless bundled
 // packing (isostatic: zero widths, no indeterminacy).
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <tuple>
@@ -224,6 +226,54 @@ TEST(ForceBounds, ShortcutsGiveTheBoundsOfEveryLp) {
         }
       }
     }
+  }
+}
+
+// Long runs: every bound is reported as it is obtained, and a run given some of them back
+// (an interrupted run's records) solves only the others, to the same bounds; a run whose
+// time is up starts no LP and says it is incomplete.
+TEST(ForceBounds, ARunResumesFromTheBoundsItReported) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  const std::vector<int> some = {0, 17, 101, 230, 402, 599, 600, 601};
+  // Time up before the first LP: only the feasibility LP runs, and nothing is reported.
+  std::vector<BoundRecord> reported;
+  BoundsOptions stopped;
+  stopped.start_before = std::chrono::steady_clock::now();
+  stopped.on_bound = [&](const BoundRecord& r) { reported.push_back(r); };
+  const BoundsReport none = ComputeForceBounds(s, some, {}, stopped);
+  ASSERT_TRUE(none.feasible);
+  EXPECT_FALSE(none.complete);
+  EXPECT_TRUE(reported.empty());
+
+  BoundsOptions first;
+  first.on_bound = [&](const BoundRecord& r) { reported.push_back(r); };
+  const BoundsReport a = ComputeForceBounds(s, some, {}, first);
+  ASSERT_TRUE(a.feasible && a.complete);
+  ASSERT_EQ(reported.size(), 3 * some.size());  // max, max without friction and min of each
+  long long iterations = 0;
+  for (const BoundRecord& r : reported) iterations += r.iterations;
+  EXPECT_EQ(iterations, a.lp_iterations - none.lp_iterations);  // every LP's but the feasibility LP's
+
+  BoundsOptions second;
+  second.known.assign(reported.begin(), reported.begin() + reported.size() / 2);
+  int solved = 0;
+  second.on_bound = [&](const BoundRecord&) { ++solved; };
+  const BoundsReport b = ComputeForceBounds(s, some, {}, second);
+  ASSERT_TRUE(b.complete);
+  EXPECT_EQ(b.bounds_known, static_cast<long long>(reported.size() / 2));
+  EXPECT_EQ(solved + b.bounds_known, static_cast<long long>(reported.size()));
+  for (const BoundRecord& r : reported) {
+    const std::size_t at = std::find(some.begin(), some.end(), r.contact) - some.begin();
+    ASSERT_LT(at, some.size());
+    const auto slot = [&](const ContactBounds& c) {
+      return r.kind == BoundKind::kMin ? c.min : r.kind == BoundKind::kMax ? c.max : c.max_without_friction;
+    };
+    ASSERT_EQ(slot(b.bounds[at]).status, r.bound.status);
+    ASSERT_EQ(slot(a.bounds[at]).status, r.bound.status);
+    if (!r.bound.ok()) continue;
+    EXPECT_EQ(slot(a.bounds[at]).value, r.bound.value);  // what was reported is the answer
+    EXPECT_NEAR(slot(b.bounds[at]).value, r.bound.value, 1e-9 * s.force_scale) << ToString(r.kind) << " of " << r.contact;
   }
 }
 

@@ -13,6 +13,9 @@
 // (rank-revealing sparse QR) with the tolerance below.
 #pragma once
 
+#include <chrono>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +27,7 @@ namespace unjam {
 
 enum class BoundStatus { kOptimal, kUnbounded, kInfeasible, kFailed };
 const char* ToString(BoundStatus status);
+std::optional<BoundStatus> BoundStatusFromString(const std::string& name);
 
 struct Bound {
   BoundStatus status = BoundStatus::kFailed;
@@ -35,6 +39,21 @@ struct ContactBounds {
   int contact = -1;                 // index into EquilibriumSystem::contacts
   double reference = 0.0;           // f_n of the reference (stored) forces
   Bound min, max, max_without_friction;
+};
+
+// The three LPs of a contact, in the order a block of contacts runs them.
+enum class BoundKind { kMax, kMaxWithoutFriction, kMin };
+const char* ToString(BoundKind kind);
+std::optional<BoundKind> BoundKindFromString(const std::string& name);
+
+// One bound as it was obtained: what a long run writes as it goes and resumes from
+// (`unjam bounds -o`, docs/indeterminacy.md, "Long runs").
+struct BoundRecord {
+  int contact = -1;                 // index into EquilibriumSystem::contacts
+  BoundKind kind = BoundKind::kMax;
+  Bound bound;
+  long long iterations = 0;         // simplex iterations of its LP (0 for a shortcut)
+  bool shortcut = false;            // answered by an earlier optimal network, no LP
 };
 
 enum class LpBackend { kClp, kIpopt };
@@ -53,6 +72,13 @@ struct BoundsOptions {
   // proves (min f_n,k = 0 when a network with f_n,k = 0 was seen; max without friction =
   // max when the maximising network has f_t,k = 0). false runs every LP (for comparison).
   bool shortcuts = true;
+  // Long runs. Bounds already obtained (e.g. read back from an interrupted run's records)
+  // are taken as they are, without an LP; every other bound is passed to `on_bound` as soon
+  // as it exists (one call at a time, from any block's thread). No LP starts after
+  // `start_before`: the report is then incomplete.
+  std::vector<BoundRecord> known;
+  std::function<void(const BoundRecord&)> on_bound;
+  std::optional<std::chrono::steady_clock::time_point> start_before;
 };
 
 // The ensemble itself is infeasible when the stored state is not static: checked once.
@@ -63,6 +89,8 @@ struct BoundsReport {
   double seconds = 0.0;
   long long lp_iterations = 0;      // simplex iterations over all LPs
   long long lps_skipped = 0;        // LPs answered by a shortcut (BoundsOptions::shortcuts)
+  long long bounds_known = 0;       // taken from BoundsOptions::known
+  bool complete = true;             // false: BoundsOptions::start_before stopped the run
 };
 
 // `contacts`: indices into system.contacts. `reference`: the system's unknowns (e.g. the

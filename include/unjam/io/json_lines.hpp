@@ -1,0 +1,31 @@
+// JSON Lines files that long runs append to as they go and resume from (`unjam perturb -o`,
+// `unjam bounds -o`; docs/format.md): the first line is a header naming the run's
+// parameters, then one JSON object per line.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace unjam {
+
+struct JsonLines {
+  nlohmann::json header;
+  std::vector<std::pair<int, nlohmann::json>> lines;  // (line number, object) after the header
+  std::uintmax_t valid_bytes = 0;                      // length of the complete lines (a torn last line is not)
+};
+
+// A last line cut short by an interruption is ignored (valid_bytes ends before it); any other
+// line that is not JSON, or a file without a header, is an InputError naming the file and line.
+JsonLines ReadJsonLines(const std::filesystem::path& path);
+
+// Throws std::invalid_argument (a usage error) naming `path` and the keys that differ when
+// `found` (its header) is not `expected`; `remedy` says what to do.
+void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found, const nlohmann::json& expected,
+                   const std::string& remedy);
+
+}  // namespace unjam
