@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 
+#include "mpi_session.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
 #include "unjam/io/json_lines.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -169,53 +171,90 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
 }
 
 // Long runs (docs/indeterminacy.md, "Long runs"): with -o FILE every bound is appended to
-// FILE.records.jsonl as it is obtained; a rerun of the same command takes those back and
-// solves only the others, and the records are removed once FILE is written.
+// FILE.records.jsonl as it is obtained (under mpirun rank r > 0 appends to
+// FILE.records.rank<r>.jsonl, merged by rank 0 at the end); a rerun of the same command
+// takes those back and solves only the others, and the records are removed once FILE is
+// written.
 class BoundsRecords {
  public:
-  BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsOptions& o)
-      : path_(f.output + ".records.jsonl") {
-    const nlohmann::json header = {{"unjam_bounds_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
-                                   {"packing_fnv1a", FileFingerprint(f.file)}, {"contacts", f.contacts}, {"selected", selected},
-                                   {"ensemble_contacts", s.contacts.size()}, {"lp", f.lp}, {"warm_start", o.warm_start},
-                                   {"gap_tolerance", f.gap_tolerance}, {"lp_tolerance", o.lp_tolerance}};
-    const bool fresh = !std::filesystem::exists(path_);
-    if (!fresh) Resume(header, static_cast<int>(s.contacts.size()));
-    log_.open(path_, std::ios::app | std::ios::binary);
-    if (!log_) throw OutputError(path_.string() + ": cannot open for writing");
-    if (fresh) log_ << header.dump() << '\n' << std::flush;
+  BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsOptions& o, int rank)
+      : base_(f.output + ".records.jsonl"), own_(RankPath(base_, rank)), contacts_(static_cast<int>(s.contacts.size())),
+        header_({{"unjam_bounds_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
+                 {"packing_fnv1a", FileFingerprint(f.file)}, {"contacts", f.contacts}, {"selected", selected},
+                 {"ensemble_contacts", s.contacts.size()}, {"lp", f.lp}, {"warm_start", o.warm_start},
+                 {"gap_tolerance", f.gap_tolerance}, {"lp_tolerance", o.lp_tolerance}}) {
+    ReadAll();
+    resumed_ = static_cast<long long>(known_.size());
+    resumed_iterations_ = KnownIterations();
+    resumed_shortcuts_ = KnownShortcuts();
+    const bool fresh = !std::filesystem::exists(own_);
+    log_.open(own_, std::ios::app | std::ios::binary);
+    if (!log_) throw OutputError(own_.string() + ": cannot open for writing");
+    if (fresh) log_ << header_.dump() << '\n' << std::flush;
   }
   const std::vector<BoundRecord>& Known() const { return known_; }
-  long long KnownIterations() const { return known_iterations_; }
-  const std::filesystem::path& Path() const { return path_; }
+  const std::filesystem::path& Path() const { return base_; }
   // Called one at a time (BoundsOptions::on_bound).
   void Add(const BoundRecord& r) {
     log_ << nlohmann::json{{"contact", r.contact}, {"kind", ToString(r.kind)}, {"status", ToString(r.bound.status)},
                            {"value", r.bound.ok() ? nlohmann::json(r.bound.value) : nlohmann::json(nullptr)},
                            {"iterations", r.iterations}, {"shortcut", r.shortcut}}.dump()
          << '\n' << std::flush;
-    if (!log_) throw OutputError(path_.string() + ": cannot append a bound");
+    if (!log_) throw OutputError(own_.string() + ": cannot append a bound");
     ++written_;
+    written_iterations_ += r.iterations;
+    written_shortcuts_ += r.shortcut ? 1 : 0;
   }
-  long long Written() const { return written_; }
+  // Rank 0, once every rank is done: the ranks' records in one file, and all of them known.
+  void Merge() {
+    log_.close();
+    MergeRankFiles(base_, header_, kOtherRun);
+    ReadAll();
+    written_ = written_iterations_ = written_shortcuts_ = 0;
+  }
+  long long Obtained() const { return static_cast<long long>(known_.size()) + written_; }
+  long long Resumed() const { return resumed_; }
+  long long ResumedIterations() const { return resumed_iterations_; }
+  // The simplex iterations of every recorded bound's LP, and of this process's own.
+  long long ObtainedIterations() const { return KnownIterations() + written_iterations_; }
+  long long WrittenIterations() const { return written_iterations_; }
+  // The bounds answered by a shortcut, not an LP, in this run (on every rank, after Merge).
+  long long ShortcutsThisRun() const { return KnownShortcuts() + written_shortcuts_ - resumed_shortcuts_; }
   // The run is written out: the records are no longer needed.
   void Remove() {
     log_.close();
-    std::filesystem::remove(path_);
+    std::filesystem::remove(base_);
   }
 
  private:
-  void Resume(const nlohmann::json& header, int contacts) {
-    const JsonLines file = ReadJsonLines(path_);
-    RequireHeader(path_, file.header, header, "remove it or choose another --output");
-    std::filesystem::resize_file(path_, file.valid_bytes);  // drop a torn last line
-    for (const auto& [line, j] : file.lines) {
-      known_.push_back(FromJson(j, line, contacts));
-      known_iterations_ += known_.back().iterations;
+  static constexpr const char* kOtherRun = "remove it or choose another --output";
+
+  // Every rank file's bounds (a bound recorded twice, by an mpirun interrupted while merging,
+  // counts once); a torn last line of this process's own file is cut off.
+  void ReadAll() {
+    std::map<std::pair<int, BoundKind>, BoundRecord> all;
+    for (const std::filesystem::path& path : RankFiles(base_)) {
+      const JsonLines file = ReadJsonLines(path);
+      RequireHeader(path, file.header, header_, kOtherRun);
+      if (path == own_) std::filesystem::resize_file(path, file.valid_bytes);
+      for (const auto& [line, j] : file.lines) {
+        const BoundRecord r = FromJson(path, j, line);
+        all[{r.contact, r.kind}] = r;
+      }
     }
+    known_.clear();
+    for (const auto& [key, r] : all) known_.push_back(r);
   }
-  BoundRecord FromJson(const nlohmann::json& j, int line, int contacts) const {
-    auto bad = [&](const std::string& why) { return InputError(path_.string(), line, "bad bound record: " + why); };
+  long long KnownIterations() const {
+    long long sum = 0;
+    for (const BoundRecord& r : known_) sum += r.iterations;
+    return sum;
+  }
+  long long KnownShortcuts() const {
+    return std::count_if(known_.begin(), known_.end(), [](const BoundRecord& r) { return r.shortcut; });
+  }
+  BoundRecord FromJson(const std::filesystem::path& path, const nlohmann::json& j, int line) const {
+    auto bad = [&](const std::string& why) { return InputError(path.string(), line, "bad bound record: " + why); };
     BoundRecord r;
     try {
       r.contact = j.at("contact").get<int>();
@@ -230,35 +269,37 @@ class BoundsRecords {
     } catch (const nlohmann::json::exception& e) {
       throw bad(e.what());
     }
-    if (r.contact < 0 || r.contact >= contacts) throw bad("contact " + std::to_string(r.contact) + " is not in the ensemble");
+    if (r.contact < 0 || r.contact >= contacts_) throw bad("contact " + std::to_string(r.contact) + " is not in the ensemble");
     if (r.bound.ok() && !std::isfinite(r.bound.value)) throw bad("a value that is not a finite number");
     return r;
   }
 
-  std::filesystem::path path_;
+  std::filesystem::path base_, own_;
+  int contacts_;
+  nlohmann::json header_;
   std::ofstream log_;
   std::vector<BoundRecord> known_;
-  long long known_iterations_ = 0;
-  long long written_ = 0;
+  long long resumed_ = 0, resumed_iterations_ = 0, resumed_shortcuts_ = 0;
+  long long written_ = 0, written_iterations_ = 0, written_shortcuts_ = 0;
 };
 
 // --time-limit ended the run before every bound was obtained: no CSV; what was obtained is
 // in the records, from which the same command continues.
-int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsReport& report,
-                       const BoundsRecords& records, Clock::time_point start) {
+int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, long long lp_iterations,
+                       double lp_seconds, const BoundsRecords& records, Clock::time_point start) {
   const long long total = static_cast<long long>(selected) * (s.frictional ? 3 : 2);
-  const long long obtained = report.bounds_known + records.Written();
+  const long long obtained = records.Obtained();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (f.json) {
     const nlohmann::json out = {{"file", f.file}, {"contacts", selected}, {"ensemble_contacts", s.contacts.size()},
                                 {"complete", false}, {"bounds_obtained", obtained}, {"bounds_total", total},
-                                {"records", records.Path().string()}, {"lp_iterations", report.lp_iterations},
-                                {"lp_seconds", report.seconds}, {"seconds", seconds}};
+                                {"records", records.Path().string()}, {"lp_iterations", lp_iterations},
+                                {"lp_seconds", lp_seconds}, {"seconds", seconds}};
     std::printf("%s\n", out.dump().c_str());
   } else {
     std::printf("contacts           %zu of %zu in the ensemble\n", selected, s.contacts.size());
     std::printf("incomplete         %lld of %lld bounds obtained\n", obtained, total);
-    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations)\n", seconds, report.seconds, report.lp_iterations);
+    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations)\n", seconds, lp_seconds, lp_iterations);
   }
   std::fprintf(stderr, "bounds: stopped at the time limit with %lld of %lld bounds; the same command continues from %s\n",
                obtained, total, records.Path().string().c_str());
@@ -290,16 +331,42 @@ int RunBounds(const BoundsFlags& f) {
     }
     bo.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
   }
+  MpiSession* mpi = CurrentMpiSession();
+  const int rank = mpi != nullptr ? mpi->rank() : 0, ranks = mpi != nullptr ? mpi->size() : 1;
+  if (ranks > 1 && f.output.empty()) throw std::invalid_argument("under mpirun, -o FILE is needed: the ranks share their records beside it");
+  bo.shares = ranks;
+  bo.share = rank;
   std::optional<BoundsRecords> records;
   if (!f.output.empty()) {
-    records.emplace(f, system, selected.size(), bo);
+    records.emplace(f, system, selected.size(), bo, rank);
     bo.known = records->Known();
     bo.on_bound = [&records](const BoundRecord& r) { records->Add(r); };
-    if (!bo.known.empty()) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());
+    if (!bo.known.empty() && rank == 0) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());
   }
-  const BoundsReport report = ComputeForceBounds(system, selected, StoredForcesOf(system, scene.forces), bo);
+  const Eigen::VectorXd stored = StoredForcesOf(system, scene.forces);
+  BoundsReport report = ComputeForceBounds(system, selected, stored, bo);
+  long long lp_iterations = report.lp_iterations, lps_skipped = report.lps_skipped;
+  const double lp_seconds = report.seconds;  // this process's
+  if (ranks > 1) {
+    // Every rank's share is recorded (or a rank failed: then all end with its code).
+    const int worst = mpi->WorstStatus(kOk);
+    if (worst != kOk || rank != 0) return worst;
+    // Rank 0 gathers the bounds from the records; it solves nothing more (time is up for a
+    // bound that no rank obtained).
+    const long long feasibility = report.lp_iterations - records->WrittenIterations();
+    records->Merge();
+    lp_iterations = feasibility + records->ObtainedIterations() - records->ResumedIterations();
+    BoundsOptions gather = bo;
+    gather.shares = 1;
+    gather.share = 0;
+    gather.known = records->Known();
+    gather.on_bound = nullptr;
+    gather.start_before = Clock::now();
+    report = ComputeForceBounds(system, selected, stored, gather);
+    lps_skipped = records->ShortcutsThisRun();
+  }
   const Indeterminacy nd = ForceIndeterminacy(system);
-  if (!report.complete) return StoppedAtTimeLimit(f, system, selected.size(), report, *records, start);
+  if (!report.complete) return StoppedAtTimeLimit(f, system, selected.size(), lp_iterations, lp_seconds, *records, start);
   std::optional<Comparison> cmp;
   if (f.compare_perturb && report.feasible) cmp = ComparePerturbations(scene, system, report, f, threads);
 
@@ -331,9 +398,9 @@ int RunBounds(const BoundsFlags& f) {
                         {"bounded_contacts", widths}, {"unbounded_or_failed", failed},
                         {"mean_fcont", references > 0 ? nlohmann::json(reference_sum / references) : nlohmann::json(nullptr)},
                         {"no_frictionless_equilibrium", no_pure_opening},
-                        {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", report.lp_iterations}, {"lps_skipped", report.lps_skipped},
-                        {"bounds_resumed", report.bounds_known}, {"lp_iterations_resumed", records ? records->KnownIterations() : 0}, {"complete", true},
-                        {"lp_seconds", report.seconds}, {"threads", lp == LpBackend::kIpopt ? 1 : threads}, {"seconds", seconds}};
+                        {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", lp_iterations}, {"lps_skipped", lps_skipped},
+                        {"bounds_resumed", records ? records->Resumed() : 0}, {"lp_iterations_resumed", records ? records->ResumedIterations() : 0}, {"complete", true},
+                        {"lp_seconds", lp_seconds}, {"threads", lp == LpBackend::kIpopt ? 1 : threads}, {"ranks", ranks}, {"seconds", seconds}};
   if (cmp) {
     out["compared"] = cmp->used;
     out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
@@ -357,7 +424,7 @@ int RunBounds(const BoundsFlags& f) {
       std::printf("openings           %d quasi-static (%d inside [LP min, LP max without friction], %d outside), %d dynamic\n",
                   cmp->WithStatus("ok"), cmp->WithInside(1), cmp->WithInside(0), cmp->WithStatus("dynamic"));
     }
-    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
+    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, lp_seconds, lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
   }
   return report.feasible ? kOk : kNotConverged;
 }

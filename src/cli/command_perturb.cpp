@@ -179,27 +179,13 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
 
 // The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
 // MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
-std::filesystem::path RecordsPath(const std::filesystem::path& dir, int rank) {
-  return dir / (rank == 0 ? std::string("records.jsonl") : "records.rank" + std::to_string(rank) + ".jsonl");
-}
+constexpr const char* kOtherRun = "remove it or choose another --output directory";
 
-// records.jsonl and every rank's file left in `dir` (a run or an interrupted mpirun).
-std::vector<std::filesystem::path> RecordsFiles(const std::filesystem::path& dir) {
-  std::vector<std::filesystem::path> files;
-  if (std::filesystem::exists(RecordsPath(dir, 0))) files.push_back(RecordsPath(dir, 0));
-  std::vector<std::filesystem::path> ranks;
-  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind("records.rank", 0) == 0 && name.size() > 6 && name.substr(name.size() - 6) == ".jsonl") ranks.push_back(entry.path());
-  }
-  std::sort(ranks.begin(), ranks.end());
-  files.insert(files.end(), ranks.begin(), ranks.end());
-  return files;
-}
+std::filesystem::path RecordsPath(const std::filesystem::path& dir, int rank) { return RankPath(dir / "records.jsonl", rank); }
 
 RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::json& header) {
   RecordsFile file = ReadRecords(records);
-  RequireHeader(records, file.header, header, "remove it or choose another --output directory");
+  RequireHeader(records, file.header, header, kOtherRun);
   return file;
 }
 
@@ -209,32 +195,12 @@ RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::
 std::map<int, ReducedResponse> Resume(const std::filesystem::path& dir, const nlohmann::json& header,
                                       const std::filesystem::path& own) {
   std::map<int, ReducedResponse> done;
-  for (const std::filesystem::path& path : RecordsFiles(dir)) {
+  for (const std::filesystem::path& path : RankFiles(RecordsPath(dir, 0))) {
     RecordsFile file = ReadRecordsOf(path, header);
     if (path == own) std::filesystem::resize_file(path, file.valid_bytes);  // drop a torn last line
     for (auto& [index, record] : file.records) done.emplace(index, std::move(record));
   }
   return done;
-}
-
-// After an mpirun (or a resume of one): the other ranks' records are appended to
-// records.jsonl as they were written, and their files removed, so that the directory
-// holds one records file that only ever grew.
-void MergeRankRecords(const std::filesystem::path& dir, const nlohmann::json& header) {
-  const std::filesystem::path merged = RecordsPath(dir, 0);
-  for (const std::filesystem::path& path : RecordsFiles(dir)) {
-    if (path == merged) continue;
-    const RecordsFile file = ReadRecordsOf(path, header);
-    std::ifstream in(path, std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    text.resize(static_cast<std::size_t>(file.valid_bytes));
-    const std::size_t body = text.find('\n') + 1;  // after the header line
-    std::ofstream out(merged, std::ios::app | std::ios::binary);
-    out << text.substr(body) << std::flush;
-    if (!out) throw OutputError(merged.string() + ": cannot append the records of " + path.string());
-    out.close();
-    std::filesystem::remove(path);
-  }
 }
 
 std::string TargetName(const PerturbationTarget& t) {
@@ -459,8 +425,8 @@ int RunPerturb(const PerturbFlags& f) {
     const int worst = mpi->WorstStatus(kOk);
     if (worst != kOk || rank != 0) return worst;
   }
-  if (!f.output_dir.empty() && RecordsFiles(dir).size() > 1) {
-    MergeRankRecords(dir, header);
+  if (!f.output_dir.empty() && RankFiles(RecordsPath(dir, 0)).size() > 1) {
+    MergeRankFiles(RecordsPath(dir, 0), header, kOtherRun);
     records = Resume(dir, header, RecordsPath(dir, 0));
   }
   std::vector<ReducedResponse> ordered;

@@ -64,8 +64,8 @@ int Run(int argc, char** argv) {
   }
   try {
     const MpiSession* mpi = CurrentMpiSession();
-    if (mpi != nullptr && mpi->size() > 1 && !*perturb) {
-      throw std::invalid_argument("only `unjam perturb` divides its work among MPI ranks; run other commands without mpirun");
+    if (mpi != nullptr && mpi->size() > 1 && !*perturb && !(*bounds && !bounds_flags.Shifts())) {
+      throw std::invalid_argument("only `unjam perturb` and `unjam bounds` on contacts divide their work among MPI ranks; run other commands without mpirun");
     }
     const bool main_job_options = app.count("--sample") + app.count("--seed") + app.count("--out") + app.count("--threads") > 0;
     if (main_job_options && !app.get_subcommands().empty()) {

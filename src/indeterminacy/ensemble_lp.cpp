@@ -1,7 +1,10 @@
 #include "ensemble_lp.hpp"
 
+#include <algorithm>
+#include <exception>
 #include <limits>
 #include <thread>
+#include <vector>
 
 namespace unjam::indeterminacy_internal {
 
@@ -63,9 +66,23 @@ void RunBlocks(int blocks, const std::function<void(int)>& run_block) {
     run_block(0);
     return;
   }
+  // An exception of a block (e.g. its records cannot be written) is rethrown here, after
+  // every thread has ended, instead of ending the process from inside a thread.
+  std::vector<std::exception_ptr> failures(std::max(blocks, 0));
   std::vector<std::thread> pool;
-  for (int b = 0; b < blocks; ++b) pool.emplace_back(run_block, b);
+  for (int b = 0; b < blocks; ++b) {
+    pool.emplace_back([&, b] {
+      try {
+        run_block(b);
+      } catch (...) {
+        failures[b] = std::current_exception();
+      }
+    });
+  }
   for (std::thread& t : pool) t.join();
+  for (const std::exception_ptr& failure : failures) {
+    if (failure) std::rethrow_exception(failure);
+  }
 }
 
 }  // namespace unjam::indeterminacy_internal

@@ -164,8 +164,12 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
   }
+  if (options.shares < 1 || options.share < 0 || options.share >= options.shares) {
+    throw std::invalid_argument("ComputeForceBounds: share " + std::to_string(options.share) + " of " + std::to_string(options.shares));
+  }
   const int threads = options.lp == LpBackend::kIpopt ? 1 : options.threads;
-  const int blocks = std::max(1, std::min<int>(threads, static_cast<int>(contacts.size())));
+  const int blocks = std::max(1, std::min<int>(threads * options.shares, static_cast<int>(contacts.size())));
+  const int own_first = std::min(blocks, options.share * threads), own_last = std::min(blocks, (options.share + 1) * threads);
   std::vector<long long> iterations(blocks, 0);
   // Blocks of the spatial order; within a block all maxima, then the maxima without
   // friction, then the minima: successive LPs differ least.
@@ -237,7 +241,7 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
       }
     }
   };
-  indeterminacy_internal::RunBlocks(blocks, run_block);
+  indeterminacy_internal::RunBlocks(own_last - own_first, [&](int b) { run_block(own_first + b); });
   for (long long i : iterations) report.lp_iterations += i;
   for (long long i : skipped) report.lps_skipped += i;
   for (long long i : known) report.bounds_known += i;

@@ -1,6 +1,8 @@
 #include "unjam/io/json_lines.hpp"
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -51,6 +53,46 @@ void RequireHeader(const std::filesystem::path& path, const nlohmann::json& foun
     if (!expected.contains(key)) keys += (keys.empty() ? "" : ", ") + key;
   }
   throw std::invalid_argument(path.string() + " holds a run with other parameters (" + keys + "): " + remedy);
+}
+
+std::filesystem::path RankPath(const std::filesystem::path& path, int rank) {
+  if (rank == 0) return path;
+  return path.parent_path() / (path.stem().string() + ".rank" + std::to_string(rank) + path.extension().string());
+}
+
+std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path) {
+  std::vector<std::filesystem::path> files;
+  if (std::filesystem::exists(path)) files.push_back(path);
+  const std::string prefix = path.stem().string() + ".rank", suffix = path.extension().string();
+  const std::filesystem::path dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  std::vector<std::filesystem::path> ranks;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() > prefix.size() + suffix.size() && name.rfind(prefix, 0) == 0 &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      ranks.push_back(path.parent_path() / name);
+    }
+  }
+  std::sort(ranks.begin(), ranks.end());
+  files.insert(files.end(), ranks.begin(), ranks.end());
+  return files;
+}
+
+void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header, const std::string& remedy) {
+  for (const std::filesystem::path& from : RankFiles(path)) {
+    if (from == path) continue;
+    const JsonLines file = ReadJsonLines(from);
+    RequireHeader(from, file.header, header, remedy);
+    std::ifstream in(from, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.resize(static_cast<std::size_t>(file.valid_bytes));
+    const std::size_t body = text.find('\n') + 1;  // after the header line
+    std::ofstream out(path, std::ios::app | std::ios::binary);
+    out << text.substr(body) << std::flush;
+    if (!out) throw OutputError(path.string() + ": cannot append the records of " + from.string());
+    out.close();
+    std::filesystem::remove(from);
+  }
 }
 
 }  // namespace unjam

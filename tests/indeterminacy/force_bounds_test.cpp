@@ -277,6 +277,41 @@ TEST(ForceBounds, ARunResumesFromTheBoundsItReported) {
   }
 }
 
+// Processes sharing the contacts (mpirun): share s of 2 on one thread solves the block of
+// thread s of one process on two threads, bit for bit, and only that block.
+TEST(ForceBounds, TwoSharesAreTheBlocksOfTwoThreads) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  const std::vector<int> some = {0, 17, 101, 230, 402, 599, 600};
+  BoundsOptions two_threads;
+  two_threads.threads = 2;
+  const BoundsReport whole = ComputeForceBounds(s, some, {}, two_threads);
+  std::vector<BoundRecord> shared;
+  for (int share : {0, 1}) {
+    BoundsOptions o;
+    o.shares = 2;
+    o.share = share;
+    o.on_bound = [&](const BoundRecord& r) { shared.push_back(r); };
+    const std::size_t before = shared.size();
+    EXPECT_TRUE(ComputeForceBounds(s, some, {}, o).complete);
+    EXPECT_GT(shared.size(), before);
+    EXPECT_LT(shared.size() - before, 3 * some.size());  // one share only
+  }
+  ASSERT_EQ(shared.size(), 3 * some.size());
+  for (const BoundRecord& r : shared) {
+    const std::size_t at = std::find(some.begin(), some.end(), r.contact) - some.begin();
+    ASSERT_LT(at, some.size());
+    const ContactBounds& b = whole.bounds[at];
+    const Bound& expected = r.kind == BoundKind::kMin ? b.min : r.kind == BoundKind::kMax ? b.max : b.max_without_friction;
+    EXPECT_EQ(r.bound.status, expected.status);
+    EXPECT_EQ(r.bound.value, expected.value) << ToString(r.kind) << " of " << r.contact;
+  }
+  BoundsOptions bad;
+  bad.shares = 2;
+  bad.share = 2;
+  EXPECT_THROW(ComputeForceBounds(s, some, {}, bad), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace unjam
 

@@ -79,6 +79,12 @@ struct BoundsOptions {
   std::vector<BoundRecord> known;
   std::function<void(const BoundRecord&)> on_bound;
   std::optional<std::chrono::steady_clock::time_point> start_before;
+  // Processes sharing the contacts (`mpirun … unjam bounds`): the spatial order is cut into
+  // threads × shares blocks and this process runs the `threads` blocks of share `share`. The
+  // blocks are those of one process on threads × shares threads, so the bounds are the same
+  // bit for bit. Only this share's bounds are filled in (and `complete` speaks of them).
+  int shares = 1;
+  int share = 0;
 };
 
 // The ensemble itself is infeasible when the stored state is not static: checked once.

@@ -28,4 +28,15 @@ JsonLines ReadJsonLines(const std::filesystem::path& path);
 void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found, const nlohmann::json& expected,
                    const std::string& remedy);
 
+// Under mpirun every rank appends to its own file: `path` (X.jsonl) for rank 0, X.rank<r>.jsonl
+// for rank r, beside it.
+std::filesystem::path RankPath(const std::filesystem::path& path, int rank);
+// `path` if it exists, then the rank files beside it (sorted by name): what a run or an
+// interrupted mpirun left.
+std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path);
+// Appends the complete lines (after the header) of every rank file beside `path` to `path`,
+// as they were written, and removes those files, so that one file holds the run and only
+// ever grew. Each file's header must be `header` (RequireHeader, with `remedy`).
+void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header, const std::string& remedy);
+
 }  // namespace unjam
