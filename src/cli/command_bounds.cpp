@@ -306,6 +306,35 @@ int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::si
   return kOk;
 }
 
+BoundsOptions BoundsOptionsFrom(const BoundsFlags& f, LpBackend lp, int threads, Clock::time_point start) {
+  BoundsOptions bo;
+  bo.warm_start = !f.cold;
+  bo.lp = lp;
+  bo.threads = threads;
+  if (f.time_limit) {
+    if (!(std::isfinite(*f.time_limit) && *f.time_limit >= 0.0)) {
+      throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " + Format("%g", *f.time_limit));
+    }
+    bo.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
+  }
+  return bo;
+}
+
+// Rank 0 of an mpirun, once every rank is done: the ranks' records merged, and the report
+// made from them alone. It solves no LP (time is up for a bound that no rank obtained: the
+// report is then incomplete).
+BoundsReport GatherRanks(const EquilibriumSystem& system, const std::vector<int>& selected, const Eigen::VectorXd& stored,
+                         const BoundsOptions& options, BoundsRecords& records) {
+  records.Merge();
+  BoundsOptions gather = options;
+  gather.shares = 1;
+  gather.share = 0;
+  gather.known = records.Known();
+  gather.on_bound = nullptr;
+  gather.start_before = Clock::now();
+  return ComputeForceBounds(system, selected, stored, gather);
+}
+
 }  // namespace
 
 int RunBounds(const BoundsFlags& f) {
@@ -321,16 +350,7 @@ int RunBounds(const BoundsFlags& f) {
   const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
   const std::vector<int> selected = SelectContacts(f.contacts, scene, system);
   const int threads = ThreadsFromOption(f.threads);
-  BoundsOptions bo;
-  bo.warm_start = !f.cold;
-  bo.lp = lp;
-  bo.threads = threads;
-  if (f.time_limit) {
-    if (!(std::isfinite(*f.time_limit) && *f.time_limit >= 0.0)) {
-      throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " + Format("%g", *f.time_limit));
-    }
-    bo.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
-  }
+  BoundsOptions bo = BoundsOptionsFrom(f, lp, threads, start);
   MpiSession* mpi = CurrentMpiSession();
   const int rank = mpi != nullptr ? mpi->rank() : 0, ranks = mpi != nullptr ? mpi->size() : 1;
   if (ranks > 1 && f.output.empty()) throw std::invalid_argument("under mpirun, -o FILE is needed: the ranks share their records beside it");
@@ -351,22 +371,13 @@ int RunBounds(const BoundsFlags& f) {
     // Every rank's share is recorded (or a rank failed: then all end with its code).
     const int worst = mpi->WorstStatus(kOk);
     if (worst != kOk || rank != 0) return worst;
-    // Rank 0 gathers the bounds from the records; it solves nothing more (time is up for a
-    // bound that no rank obtained).
     const long long feasibility = report.lp_iterations - records->WrittenIterations();
-    records->Merge();
+    report = GatherRanks(system, selected, stored, bo, *records);
     lp_iterations = feasibility + records->ObtainedIterations() - records->ResumedIterations();
-    BoundsOptions gather = bo;
-    gather.shares = 1;
-    gather.share = 0;
-    gather.known = records->Known();
-    gather.on_bound = nullptr;
-    gather.start_before = Clock::now();
-    report = ComputeForceBounds(system, selected, stored, gather);
     lps_skipped = records->ShortcutsThisRun();
   }
-  const Indeterminacy nd = ForceIndeterminacy(system);
   if (!report.complete) return StoppedAtTimeLimit(f, system, selected.size(), lp_iterations, lp_seconds, *records, start);
+  const Indeterminacy nd = ForceIndeterminacy(system);
   std::optional<Comparison> cmp;
   if (f.compare_perturb && report.feasible) cmp = ComparePerturbations(scene, system, report, f, threads);
 
