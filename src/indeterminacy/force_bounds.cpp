@@ -144,6 +144,9 @@ class BoundLog {
 
 BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vector<int>& contacts,
                                 const Eigen::VectorXd& reference, const BoundsOptions& options) {
+  if (options.shares < 1 || options.share < 0 || options.share >= options.shares) {
+    throw std::invalid_argument("ComputeForceBounds: share " + std::to_string(options.share) + " of " + std::to_string(options.shares));
+  }
   const auto start = std::chrono::steady_clock::now();
   BoundsReport report;
   std::unique_ptr<ClpSimplex> base = indeterminacy_internal::EnsembleModel(system, options.lp_tolerance);
@@ -163,9 +166,6 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
-  }
-  if (options.shares < 1 || options.share < 0 || options.share >= options.shares) {
-    throw std::invalid_argument("ComputeForceBounds: share " + std::to_string(options.share) + " of " + std::to_string(options.shares));
   }
   const int threads = options.lp == LpBackend::kIpopt ? 1 : options.threads;
   const int blocks = std::max(1, std::min<int>(threads * options.shares, static_cast<int>(contacts.size())));
