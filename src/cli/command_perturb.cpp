@@ -14,8 +14,8 @@
 
 #include "mpi_session.hpp"
 #include "unjam/analysis/response_ensemble.hpp"
-#include "unjam/io/packing_file.hpp"
 #include "unjam/io/json_lines.hpp"
+#include "unjam/io/packing_file.hpp"
 #include "unjam/io/particle_export.hpp"
 #include "unjam/io/response_records.hpp"
 #include "unjam/protocols/perturbation.hpp"
@@ -177,10 +177,10 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   return header;
 }
 
-// The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
-// MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
 constexpr const char* kOtherRun = "remove it or choose another --output directory";
 
+// The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
+// MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
 std::filesystem::path RecordsPath(const std::filesystem::path& dir, int rank) { return RankPath(dir / "records.jsonl", rank); }
 
 RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::json& header) {
