@@ -74,7 +74,8 @@ def main(records_path, bounds_path, joined_path=None):
         ratios = [r["f_crit"] / r["f_y"] for r in ok]
         ratio, se = statistics.mean(ratios), standard_error(ratios)
         positions = [r["position"] for r in ok if math.isfinite(r["position"])]
-        print(f"ok: <F_crit>/<F_y> = {m_f / m_y:.3g}; per shift F_crit/F_y = {ratio:.3g} ± {se:.2g}")
+        spread = f" ± {se:.2g}" if len(ok) > 1 else " (one shift: no error)"
+        print(f"ok: <F_crit>/<F_y> = {m_f / m_y:.3g}; per shift F_crit/F_y = {ratio:.3g}{spread}")
         print(f"ok: {sum(r['inside'] for r in ok)} of {len(ok)} inside their LP interval, at "
               f"{min(positions):.3f}–{max(positions):.3f} of its width")
     for r in rows:
