@@ -12,7 +12,8 @@
 #        scripts/long-ensembles.sh store NAME
 #            store what the work directory holds now (after an interrupted run)
 # The work directory is ${UNJAM_ENSEMBLES:-/tmp/unjam-ensembles}/NAME; UNJAM_ENSEMBLES_KEPT
-# moves the kept records elsewhere (a trial run); UNJAM_MPIRUN launches the run under MPI.
+# moves the kept records elsewhere (a trial run); UNJAM_MPIRUN launches the run under MPI;
+# UNJAM_THREADS (default 0: every core) e.g. 1 runs one shift at a time beside another run.
 # `demo` (10 shifts of the 100-disk pile, a second) tries the machinery.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -98,7 +99,7 @@ case "${1:-}" in
     # directory, which must then be one they all see (docs/perturbations.md, "Beyond one
     # machine: MPI").
     # shellcheck disable=SC2086  # the recipe and the launcher are word lists
-    ${UNJAM_MPIRUN:-} "$build/unjam" perturb $args --threads 0 --time-limit "$seconds" -o "$work_root/$name" --json \
+    ${UNJAM_MPIRUN:-} "$build/unjam" perturb $args --threads "${UNJAM_THREADS:-0}" --time-limit "$seconds" -o "$work_root/$name" --json \
       >"$work_root/$name.json" || echo "long-ensembles.sh: unjam perturb exit $? (results so far kept)" >&2
     store "$name" ;;
   store)
