@@ -187,10 +187,7 @@ class BoundsRecords {
     resumed_ = static_cast<long long>(known_.size());
     resumed_iterations_ = KnownIterations();
     resumed_shortcuts_ = KnownShortcuts();
-    const bool fresh = !std::filesystem::exists(own_);
-    log_.open(own_, std::ios::app | std::ios::binary);
-    if (!log_) throw OutputError(own_.string() + ": cannot open for writing");
-    if (fresh) log_ << header_.dump() << '\n' << std::flush;
+    log_ = AppendTo(own_, header_);
   }
   const std::vector<BoundRecord>& Known() const { return known_; }
   const std::filesystem::path& Path() const { return base_; }

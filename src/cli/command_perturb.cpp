@@ -379,10 +379,7 @@ int RunPerturb(const PerturbFlags& f) {
     std::filesystem::create_directories(dir);
     const std::filesystem::path own = RecordsPath(dir, rank);
     records = Resume(dir, header, own);
-    const bool fresh = !std::filesystem::exists(own);
-    log.open(own, std::ios::app | std::ios::binary);
-    if (!log) throw OutputError(own.string() + ": cannot open for writing");
-    if (fresh) log << header.dump() << '\n' << std::flush;
+    log = AppendTo(own, header);
   }
   // The targets not yet recorded; under mpirun rank r owns the targets k = r mod ranks, by
   // the selection alone, so that the ranks need not agree on what is recorded (each reads

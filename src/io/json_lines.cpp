@@ -42,6 +42,20 @@ JsonLines ReadJsonLines(const std::filesystem::path& path) {
   return out;
 }
 
+bool HasHeaderLine(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string first;
+  return static_cast<bool>(std::getline(in, first)) && !in.eof();
+}
+
+std::ofstream AppendTo(const std::filesystem::path& path, const nlohmann::json& header) {
+  const bool fresh = !HasHeaderLine(path);
+  std::ofstream out(path, fresh ? std::ios::trunc | std::ios::binary : std::ios::app | std::ios::binary);
+  if (!out) throw OutputError(path.string() + ": cannot open for writing");
+  if (fresh) out << header.dump() << '\n' << std::flush;
+  return out;
+}
+
 void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found, const nlohmann::json& expected,
                    const std::string& remedy) {
   if (found == expected) return;
@@ -60,9 +74,10 @@ std::filesystem::path RankPath(const std::filesystem::path& path, int rank) {
   return path.parent_path() / (path.stem().string() + ".rank" + std::to_string(rank) + path.extension().string());
 }
 
-std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path) {
-  std::vector<std::filesystem::path> files;
-  if (std::filesystem::exists(path)) files.push_back(path);
+namespace {
+
+// The files named as rank files of `path` (X.rank<r>.jsonl beside X.jsonl), sorted by name.
+std::vector<std::filesystem::path> RankNamed(const std::filesystem::path& path) {
   const std::string prefix = path.stem().string() + ".rank", suffix = path.extension().string();
   const std::filesystem::path dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   std::vector<std::filesystem::path> ranks;
@@ -74,13 +89,26 @@ std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path) 
     }
   }
   std::sort(ranks.begin(), ranks.end());
-  files.insert(files.end(), ranks.begin(), ranks.end());
+  return ranks;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path) {
+  std::vector<std::filesystem::path> files;
+  if (HasHeaderLine(path)) files.push_back(path);
+  for (const std::filesystem::path& rank : RankNamed(path)) {
+    if (HasHeaderLine(rank)) files.push_back(rank);
+  }
   return files;
 }
 
 void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header, const std::string& remedy) {
-  for (const std::filesystem::path& from : RankFiles(path)) {
-    if (from == path) continue;
+  for (const std::filesystem::path& from : RankNamed(path)) {
+    if (!HasHeaderLine(from)) {  // a rank that ended before its header: nothing to merge
+      std::filesystem::remove(from);
+      continue;
+    }
     const JsonLines file = ReadJsonLines(from);
     RequireHeader(from, file.header, header, remedy);
     std::ifstream in(from, std::ios::binary);

@@ -1,6 +1,7 @@
 // The JSON Lines files that long runs append to and resume from (perturb's and bounds'
 // records): a torn last line is ignored, any other bad line is named, a header of other
-// parameters is refused naming the keys, and the files of MPI ranks merge into one.
+// parameters is refused naming the keys, the files of MPI ranks merge into one, and a file
+// without its header line holds nothing yet.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -92,6 +93,32 @@ TEST_F(JsonLinesTest, TheRanksFilesMergeIntoTheFirstAsTheyWereWritten) {
 
   Write("out.csv.records.rank1.jsonl", "{\"run\":2}\n");
   EXPECT_THROW(MergeRankFiles(first, {{"run", 1}}, "remedy"), std::invalid_argument);
+}
+
+// Under mpirun a rank may look at another's file between its creation and its header line:
+// such a file holds nothing yet. It is passed over by the readers, removed by the merge, and
+// started afresh by its own rank (as is one a crash left without its header).
+TEST_F(JsonLinesTest, AFileWithoutItsHeaderLineHoldsNothingYet) {
+  const auto first = Write("r.jsonl", "{\"run\":1}\n");
+  const auto creating = Write("r.rank1.jsonl", "");
+  const auto torn = Write("r.rank2.jsonl", "{\"ru");
+  EXPECT_TRUE(HasHeaderLine(first));
+  EXPECT_FALSE(HasHeaderLine(creating));
+  EXPECT_FALSE(HasHeaderLine(torn));
+  EXPECT_FALSE(HasHeaderLine(dir_ / "missing.jsonl"));
+  EXPECT_EQ(RankFiles(first), std::vector<std::filesystem::path>{first});
+
+  { std::ofstream own = AppendTo(torn, {{"run", 1}}); own << "{\"a\":1}\n"; }
+  const JsonLines restarted = ReadJsonLines(torn);
+  EXPECT_EQ(restarted.header, nlohmann::json({{"run", 1}}));
+  ASSERT_EQ(restarted.lines.size(), 1u);
+  { std::ofstream own = AppendTo(torn, {{"run", 1}}); own << "{\"a\":2}\n"; }  // appends
+  EXPECT_EQ(ReadJsonLines(torn).lines.size(), 2u);
+
+  MergeRankFiles(first, {{"run", 1}}, "remedy");
+  EXPECT_FALSE(std::filesystem::exists(creating));
+  EXPECT_FALSE(std::filesystem::exists(torn));
+  EXPECT_EQ(ReadJsonLines(first).lines.size(), 2u);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -23,6 +24,15 @@ struct JsonLines {
 // line that is not JSON, or a file without a header, is an InputError naming the file and line.
 JsonLines ReadJsonLines(const std::filesystem::path& path);
 
+// True if the file holds its header line whole. Under mpirun a rank may read another's file
+// between its creation and its header: such a file, or one a crash left so, holds nothing
+// yet and is passed over (RankFiles' readers), or started afresh (its own rank).
+bool HasHeaderLine(const std::filesystem::path& path);
+
+// Opens a run's own file for appending; one without its header line (new, or cut short by a
+// crash) is started afresh with `header`. Throws OutputError naming the path.
+std::ofstream AppendTo(const std::filesystem::path& path, const nlohmann::json& header);
+
 // Throws std::invalid_argument (a usage error) naming `path` and the keys that differ when
 // `found` (its header) is not `expected`; `remedy` says what to do.
 void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found, const nlohmann::json& expected,
@@ -32,11 +42,12 @@ void RequireHeader(const std::filesystem::path& path, const nlohmann::json& foun
 // for rank r, beside it.
 std::filesystem::path RankPath(const std::filesystem::path& path, int rank);
 // `path` if it exists, then the rank files beside it (sorted by name): what a run or an
-// interrupted mpirun left.
+// interrupted mpirun left. Files without their header line are left out (HasHeaderLine).
 std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path);
 // Appends the complete lines (after the header) of every rank file beside `path` to `path`,
-// as they were written, and removes those files, so that one file holds the run and only
-// ever grew. Each file's header must be `header` (RequireHeader, with `remedy`).
+// as they were written, and removes those files (also any without a header line), so that
+// one file holds the run and only ever grew. Each file's header must be `header`
+// (RequireHeader, with `remedy`).
 void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header, const std::string& remedy);
 
 }  // namespace unjam
