@@ -277,6 +277,19 @@ TEST(ForceBounds, ARunResumesFromTheBoundsItReported) {
   }
 }
 
+// A failure while a block reports its bounds (e.g. its records cannot be written) reaches
+// the caller as the exception it was, from any thread, instead of ending the process.
+TEST(ForceBounds, AFailureInABlockReachesTheCaller) {
+  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+  for (int threads : {1, 2}) {
+    BoundsOptions o;
+    o.threads = threads;
+    o.on_bound = [](const BoundRecord&) { throw OutputError("records: disk full"); };
+    EXPECT_THROW(ComputeForceBounds(s, {0, 17, 101, 230}, {}, o), OutputError) << threads << " threads";
+  }
+}
+
 // Processes sharing the contacts (mpirun): share s of 2 on one thread solves the block of
 // thread s of one process on two threads, bit for bit, and only that block.
 TEST(ForceBounds, TwoSharesAreTheBlocksOfTwoThreads) {
