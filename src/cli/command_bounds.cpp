@@ -5,15 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <map>
 #include <optional>
 #include <sstream>
 
+#include "bounds_records.hpp"
 #include "mpi_session.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
-#include "unjam/io/json_lines.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
 
@@ -169,116 +166,6 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
   }
   return os.str();
 }
-
-// Long runs (docs/indeterminacy.md, "Long runs"): with -o FILE every bound is appended to
-// FILE.records.jsonl as it is obtained (under mpirun rank r > 0 appends to
-// FILE.records.rank<r>.jsonl, merged by rank 0 at the end); a rerun of the same command
-// takes those back and solves only the others, and the records are removed once FILE is
-// written.
-class BoundsRecords {
- public:
-  BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsOptions& o, int rank)
-      : base_(f.output + ".records.jsonl"), own_(RankPath(base_, rank)), contacts_(static_cast<int>(s.contacts.size())),
-        header_({{"unjam_bounds_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
-                 {"packing_fnv1a", FileFingerprint(f.file)}, {"contacts", f.contacts}, {"selected", selected},
-                 {"ensemble_contacts", s.contacts.size()}, {"lp", f.lp}, {"warm_start", o.warm_start},
-                 {"gap_tolerance", f.gap_tolerance}, {"lp_tolerance", o.lp_tolerance}}) {
-    ReadAll();
-    resumed_ = static_cast<long long>(known_.size());
-    resumed_iterations_ = KnownIterations();
-    resumed_shortcuts_ = KnownShortcuts();
-    log_ = AppendTo(own_, header_);
-  }
-  const std::vector<BoundRecord>& Known() const { return known_; }
-  const std::filesystem::path& Path() const { return base_; }
-  // Called one at a time (BoundsOptions::on_bound).
-  void Add(const BoundRecord& r) {
-    log_ << nlohmann::json{{"contact", r.contact}, {"kind", ToString(r.kind)}, {"status", ToString(r.bound.status)},
-                           {"value", r.bound.ok() ? nlohmann::json(r.bound.value) : nlohmann::json(nullptr)},
-                           {"iterations", r.iterations}, {"shortcut", r.shortcut}}.dump()
-         << '\n' << std::flush;
-    if (!log_) throw OutputError(own_.string() + ": cannot append a bound");
-    ++written_;
-    written_iterations_ += r.iterations;
-    written_shortcuts_ += r.shortcut ? 1 : 0;
-  }
-  // Rank 0, once every rank is done: the ranks' records in one file, and all of them known.
-  void Merge() {
-    log_.close();
-    MergeRankFiles(base_, header_, kOtherRun);
-    ReadAll();
-    written_ = written_iterations_ = written_shortcuts_ = 0;
-  }
-  long long Obtained() const { return static_cast<long long>(known_.size()) + written_; }
-  long long Resumed() const { return resumed_; }
-  long long ResumedIterations() const { return resumed_iterations_; }
-  // The simplex iterations of every recorded bound's LP, and of this process's own.
-  long long ObtainedIterations() const { return KnownIterations() + written_iterations_; }
-  long long WrittenIterations() const { return written_iterations_; }
-  // The bounds answered by a shortcut, not an LP, in this run (on every rank, after Merge).
-  long long ShortcutsThisRun() const { return KnownShortcuts() + written_shortcuts_ - resumed_shortcuts_; }
-  // The run is written out: the records are no longer needed.
-  void Remove() {
-    log_.close();
-    std::filesystem::remove(base_);
-  }
-
- private:
-  static constexpr const char* kOtherRun = "remove it or choose another --output";
-
-  // Every rank file's bounds (a bound recorded twice, by an mpirun interrupted while merging,
-  // counts once); a torn last line of this process's own file is cut off.
-  void ReadAll() {
-    std::map<std::pair<int, BoundKind>, BoundRecord> all;
-    for (const std::filesystem::path& path : RankFiles(base_)) {
-      const JsonLines file = ReadJsonLines(path);
-      RequireHeader(path, file.header, header_, kOtherRun);
-      if (path == own_) std::filesystem::resize_file(path, file.valid_bytes);
-      for (const auto& [line, j] : file.lines) {
-        const BoundRecord r = FromJson(path, j, line);
-        all[{r.contact, r.kind}] = r;
-      }
-    }
-    known_.clear();
-    for (const auto& [key, r] : all) known_.push_back(r);
-  }
-  long long KnownIterations() const {
-    long long sum = 0;
-    for (const BoundRecord& r : known_) sum += r.iterations;
-    return sum;
-  }
-  long long KnownShortcuts() const {
-    return std::count_if(known_.begin(), known_.end(), [](const BoundRecord& r) { return r.shortcut; });
-  }
-  BoundRecord FromJson(const std::filesystem::path& path, const nlohmann::json& j, int line) const {
-    auto bad = [&](const std::string& why) { return InputError(path.string(), line, "bad bound record: " + why); };
-    BoundRecord r;
-    try {
-      r.contact = j.at("contact").get<int>();
-      const std::optional<BoundKind> kind = BoundKindFromString(j.at("kind").get<std::string>());
-      const std::optional<BoundStatus> status = BoundStatusFromString(j.at("status").get<std::string>());
-      if (!kind || !status) throw bad("unknown kind or status");
-      r.kind = *kind;
-      r.bound.status = *status;
-      if (r.bound.ok()) r.bound.value = j.at("value").get<double>();
-      r.iterations = j.at("iterations").get<long long>();
-      r.shortcut = j.at("shortcut").get<bool>();
-    } catch (const nlohmann::json::exception& e) {
-      throw bad(e.what());
-    }
-    if (r.contact < 0 || r.contact >= contacts_) throw bad("contact " + std::to_string(r.contact) + " is not in the ensemble");
-    if (r.bound.ok() && !std::isfinite(r.bound.value)) throw bad("a value that is not a finite number");
-    return r;
-  }
-
-  std::filesystem::path base_, own_;
-  int contacts_;
-  nlohmann::json header_;
-  std::ofstream log_;
-  std::vector<BoundRecord> known_;
-  long long resumed_ = 0, resumed_iterations_ = 0, resumed_shortcuts_ = 0;
-  long long written_ = 0, written_iterations_ = 0, written_shortcuts_ = 0;
-};
 
 // --time-limit ended the run before every bound was obtained: no CSV; what was obtained is
 // in the records, from which the same command continues.
