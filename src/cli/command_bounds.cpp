@@ -39,6 +39,7 @@ void BoundsFlags::Register(CLI::App& a) {
       ->needs(output_option);
   for (CLI::Option* shifts : {top_option, bottom_option, down_option, up_option}) limit_option->excludes(shifts);
   a.add_flag("--json", json, "one JSON object on stdout");
+  a.add_flag("--quiet", quiet, "no progress on stderr");
 }
 
 EquilibriumSystemOptions BoundsFlags::SystemOptions() const {
@@ -167,6 +168,35 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
   return os.str();
 }
 
+// Progress of a long run on stderr, at most every 30 s: how many of the selection's bounds
+// are obtained and, on one process, about how long the rest will take at this run's pace.
+class BoundsProgress {
+ public:
+  BoundsProgress(long long total, long long known, int rank, int ranks, bool quiet)
+      : total_(total), obtained_(known), rank_(rank), ranks_(ranks), quiet_(quiet), start_(Clock::now()), last_(start_) {}
+  void Add() {
+    ++obtained_;
+    ++this_run_;
+    const auto now = Clock::now();
+    if (quiet_ || now - last_ < std::chrono::seconds(30)) return;
+    last_ = now;
+    const double seconds = std::chrono::duration<double>(now - start_).count();
+    if (ranks_ > 1) {
+      std::fprintf(stderr, "bounds rank %d: %lld bounds in %.0f s\n", rank_, this_run_, seconds);
+      return;
+    }
+    std::fprintf(stderr, "bounds: %lld of %lld (%.1f %%) in %.0f s, about %.0f s to go\n", obtained_, total_,
+                 100.0 * static_cast<double>(obtained_) / static_cast<double>(total_), seconds,
+                 seconds / static_cast<double>(this_run_) * static_cast<double>(total_ - obtained_));
+  }
+
+ private:
+  long long total_, obtained_, this_run_ = 0;
+  int rank_, ranks_;
+  bool quiet_;
+  Clock::time_point start_, last_;
+};
+
 // --time-limit ended the run before every bound was obtained: no CSV; what was obtained is
 // in the records, from which the same command continues.
 int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, long long lp_iterations,
@@ -185,8 +215,10 @@ int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::si
     std::printf("incomplete         %lld of %lld bounds obtained\n", obtained, total);
     std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations)\n", seconds, lp_seconds, lp_iterations);
   }
-  std::fprintf(stderr, "bounds: stopped at the time limit with %lld of %lld bounds; the same command continues from %s\n",
-               obtained, total, records.Path().string().c_str());
+  if (!f.quiet) {
+    std::fprintf(stderr, "bounds: stopped at the time limit with %lld of %lld bounds; the same command continues from %s\n",
+                 obtained, total, records.Path().string().c_str());
+  }
   return kOk;
 }
 
@@ -244,9 +276,14 @@ int RunBounds(const BoundsFlags& f) {
   if (!f.output.empty()) {
     records.emplace(f, system, selected.size(), bo, rank);
     bo.known = records->Known();
-    bo.on_bound = [&records](const BoundRecord& r) { records->Add(r); };
-    if (!bo.known.empty() && rank == 0) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());
+    if (!bo.known.empty() && rank == 0 && !f.quiet) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());
   }
+  BoundsProgress progress(static_cast<long long>(selected.size()) * (system.frictional ? 3 : 2), static_cast<long long>(bo.known.size()),
+                          rank, ranks, f.quiet);
+  bo.on_bound = [&](const BoundRecord& r) {
+    if (records) records->Add(r);
+    progress.Add();
+  };
   const Eigen::VectorXd stored = StoredForcesOf(system, scene.forces);
   BoundsReport report = ComputeForceBounds(system, selected, stored, bo);
   long long lp_iterations = report.lp_iterations, lps_skipped = report.lps_skipped;
