@@ -168,6 +168,10 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // Shifts only: records written before the shifted particle's own displacement counted
   // in d, δ and the fields (all before 2026-11-26) do not resume into these.
   if (s.Shifts()) header["shifted_particle_displaced"] = true;
+  // Records written before the inertia ratio counted the spins and the cell (2026-11-27)
+  // hold another ratio, and another status where it crossed the threshold: they do not
+  // resume into these.
+  header["inertia_ratio_terms"] = "grains, spins, cell";
   // Only for a backend whose answers have changed, for the same reason.
   for (const std::string& name : {o.backend, o.fallback}) {
     if (name == "none") continue;
