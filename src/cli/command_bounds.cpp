@@ -168,6 +168,12 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
   return os.str();
 }
 
+// The bounds a run over `selected` contacts obtains (and records): max, max without friction
+// and min of each; a frictionless packing's max without friction is its max, not recorded.
+long long BoundsTotal(const EquilibriumSystem& s, std::size_t selected) {
+  return static_cast<long long>(selected) * (s.frictional ? 3 : 2);
+}
+
 // Progress of a long run on stderr, at most every 30 s: how many of the selection's bounds
 // are obtained and, on one process, about how long the rest will take at this run's pace.
 class BoundsProgress {
@@ -201,7 +207,7 @@ class BoundsProgress {
 // in the records, from which the same command continues.
 int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, long long lp_iterations,
                        double lp_seconds, const BoundsRecords& records, Clock::time_point start) {
-  const long long total = static_cast<long long>(selected) * (s.frictional ? 3 : 2);
+  const long long total = BoundsTotal(s, selected);
   const long long obtained = records.Obtained();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (f.json) {
@@ -278,7 +284,7 @@ int RunBounds(const BoundsFlags& f) {
     bo.known = records->Known();
     if (!bo.known.empty() && rank == 0 && !f.quiet) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());
   }
-  BoundsProgress progress(static_cast<long long>(selected.size()) * (system.frictional ? 3 : 2), static_cast<long long>(bo.known.size()),
+  BoundsProgress progress(BoundsTotal(system, selected.size()), static_cast<long long>(bo.known.size()),
                           rank, ranks, f.quiet);
   bo.on_bound = [&](const BoundRecord& r) {
     if (records) records->Add(r);

@@ -114,10 +114,6 @@ std::vector<int> SpatialOrder(const EquilibriumSystem& s, const std::vector<int>
   return order;
 }
 
-Bound& Slot(ContactBounds& b, BoundKind kind) {
-  return kind == BoundKind::kMin ? b.min : kind == BoundKind::kMax ? b.max : b.max_without_friction;
-}
-
 // BoundsOptions::known by contact and kind, and the serialised BoundsOptions::on_bound.
 class BoundLog {
  public:
@@ -210,7 +206,7 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
         ContactBounds& b = report.bounds[order[a]];
         const int k = b.contact;
         if (const Bound* given = log.Known(k, kind)) {
-          Slot(b, kind) = *given;
+          b.Of(kind) = *given;
           ++known[block];
           continue;
         }
@@ -219,9 +215,9 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
         // without friction (which is never larger).
         const bool zero_min = shortcuts && kind == BoundKind::kMin && zero_seen[k];
         if (zero_min || (shortcuts && kind == BoundKind::kMaxWithoutFriction && max_without_tangential[k])) {
-          Slot(b, kind) = zero_min ? Bound{BoundStatus::kOptimal, 0.0} : b.max;
+          b.Of(kind) = zero_min ? Bound{BoundStatus::kOptimal, 0.0} : b.max;
           ++skipped[block];
-          log.Add({k, kind, Slot(b, kind), 0, true});
+          log.Add({k, kind, b.Of(kind), 0, true});
           continue;
         }
         if (options.start_before && std::chrono::steady_clock::now() >= *options.start_before) {
@@ -230,7 +226,7 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
         }
         const long long before = iterations[block];
         const Bound bound = BoundOf(model, system, k, kind, options, iterations[block]);
-        Slot(b, kind) = bound;
+        b.Of(kind) = bound;
         log.Add({k, kind, bound, iterations[block] - before, false});
         if (!shortcuts || !bound.ok()) continue;
         record(model);

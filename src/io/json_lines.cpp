@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -10,12 +9,18 @@
 
 namespace unjam {
 
-JsonLines ReadJsonLines(const std::filesystem::path& path) {
+namespace {
+
+std::string ReadText(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "cannot open for reading");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  return buffer.str();
+}
+
+// The lines of `text`, read from `path` (named in errors).
+JsonLines ParseJsonLines(const std::string& text, const std::filesystem::path& path) {
   JsonLines out;
   std::size_t begin = 0;
   int line = 0;
@@ -41,6 +46,10 @@ JsonLines ReadJsonLines(const std::filesystem::path& path) {
   if (line == 0) throw InputError(path.string(), 1, "empty records file (no header line)");
   return out;
 }
+
+}  // namespace
+
+JsonLines ReadJsonLines(const std::filesystem::path& path) { return ParseJsonLines(ReadText(path), path); }
 
 bool HasHeaderLine(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -109,10 +118,9 @@ void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& hea
       std::filesystem::remove(from);
       continue;
     }
-    const JsonLines file = ReadJsonLines(from);
+    std::string text = ReadText(from);
+    const JsonLines file = ParseJsonLines(text, from);
     RequireHeader(from, file.header, header, remedy);
-    std::ifstream in(from, std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     text.resize(static_cast<std::size_t>(file.valid_bytes));
     const std::size_t body = text.find('\n') + 1;  // after the header line
     std::ofstream out(path, std::ios::app | std::ios::binary);

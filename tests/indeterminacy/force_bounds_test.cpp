@@ -266,14 +266,11 @@ TEST(ForceBounds, ARunResumesFromTheBoundsItReported) {
   for (const BoundRecord& r : reported) {
     const std::size_t at = std::find(some.begin(), some.end(), r.contact) - some.begin();
     ASSERT_LT(at, some.size());
-    const auto slot = [&](const ContactBounds& c) {
-      return r.kind == BoundKind::kMin ? c.min : r.kind == BoundKind::kMax ? c.max : c.max_without_friction;
-    };
-    ASSERT_EQ(slot(b.bounds[at]).status, r.bound.status);
-    ASSERT_EQ(slot(a.bounds[at]).status, r.bound.status);
+    ASSERT_EQ(b.bounds[at].Of(r.kind).status, r.bound.status);
+    ASSERT_EQ(a.bounds[at].Of(r.kind).status, r.bound.status);
     if (!r.bound.ok()) continue;
-    EXPECT_EQ(slot(a.bounds[at]).value, r.bound.value);  // what was reported is the answer
-    EXPECT_NEAR(slot(b.bounds[at]).value, r.bound.value, 1e-9 * s.force_scale) << ToString(r.kind) << " of " << r.contact;
+    EXPECT_EQ(a.bounds[at].Of(r.kind).value, r.bound.value);  // what was reported is the answer
+    EXPECT_NEAR(b.bounds[at].Of(r.kind).value, r.bound.value, 1e-9 * s.force_scale) << ToString(r.kind) << " of " << r.contact;
   }
 }
 
@@ -314,8 +311,7 @@ TEST(ForceBounds, TwoSharesAreTheBlocksOfTwoThreads) {
   for (const BoundRecord& r : shared) {
     const std::size_t at = std::find(some.begin(), some.end(), r.contact) - some.begin();
     ASSERT_LT(at, some.size());
-    const ContactBounds& b = whole.bounds[at];
-    const Bound& expected = r.kind == BoundKind::kMin ? b.min : r.kind == BoundKind::kMax ? b.max : b.max_without_friction;
+    const Bound& expected = whole.bounds[at].Of(r.kind);
     EXPECT_EQ(r.bound.status, expected.status);
     EXPECT_EQ(r.bound.value, expected.value) << ToString(r.kind) << " of " << r.contact;
   }

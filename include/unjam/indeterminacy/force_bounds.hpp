@@ -35,16 +35,18 @@ struct Bound {
   bool ok() const { return status == BoundStatus::kOptimal; }
 };
 
-struct ContactBounds {
-  int contact = -1;                 // index into EquilibriumSystem::contacts
-  double reference = 0.0;           // f_n of the reference (stored) forces
-  Bound min, max, max_without_friction;
-};
-
 // The three LPs of a contact, in the order a block of contacts runs them.
 enum class BoundKind { kMax, kMaxWithoutFriction, kMin };
 const char* ToString(BoundKind kind);
 std::optional<BoundKind> BoundKindFromString(const std::string& name);
+
+struct ContactBounds {
+  int contact = -1;                 // index into EquilibriumSystem::contacts
+  double reference = 0.0;           // f_n of the reference (stored) forces
+  Bound min, max, max_without_friction;
+  Bound& Of(BoundKind kind) { return kind == BoundKind::kMin ? min : kind == BoundKind::kMax ? max : max_without_friction; }
+  const Bound& Of(BoundKind kind) const { return kind == BoundKind::kMin ? min : kind == BoundKind::kMax ? max : max_without_friction; }
+};
 
 // One bound as it was obtained: what a long run writes as it goes and resumes from
 // (`unjam bounds -o`, docs/indeterminacy.md, "Long runs").
