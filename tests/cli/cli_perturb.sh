@@ -142,9 +142,13 @@ PY
 # One Newton iteration: only the choice is checked, not the answer.
 big="$src/problems/pressure-n3000-mu0.5.unjam"
 quick=(--contact 4 --max-iter 1 --newton-iter 1 --no-check-linearity --threads 1 --json)
-"$unjam" perturb "$big" "${quick[@]}" >"$work/big.json" 2>/dev/null; code=$?
+"$unjam" perturb "$big" "${quick[@]}" >"$work/big.json" 2>"$work/big.err"; code=$?
 [ "$code" -eq 0 ] || fail "perturb N=3000, auto: exit $code"
-"$unjam" perturb "$big" "${quick[@]}" --lemke-row-pivots 1 --fallback none >"$work/big-lemke.json" 2>/dev/null
+# Its opening is left unresolved (one iteration), and stderr says how to resolve it.
+grep -q "not converged: 1" "$work/big.err" && grep -q -- "--backend lemke --max-iter 3000000" "$work/big.err" ||
+  fail "perturb N=3000, auto: no hint at lemke for the unresolved opening"
+"$unjam" perturb "$big" "${quick[@]}" --lemke-row-pivots 1 --fallback none >"$work/big-lemke.json" 2>"$work/big-lemke.err"
+grep -q -- "--backend lemke --max-iter" "$work/big-lemke.err" && fail "perturb N=3000, lemke named: a hint at lemke"
 /usr/bin/python3 - "$work/big.json" "$work/big-lemke.json" <<'PY' || fail "perturb: auto's choice on a large frictional packing"
 import json, sys
 d = json.load(open(sys.argv[1]))
