@@ -243,18 +243,12 @@ BoundsOptions BoundsOptionsFrom(const BoundsFlags& f, LpBackend lp, int threads,
 }
 
 // Rank 0 of an mpirun, once every rank is done: the ranks' records merged, and the report
-// made from them alone. It solves no LP (time is up for a bound that no rank obtained: the
-// report is then incomplete).
+// made from them alone, without an LP (a bound that no rank obtained in its time leaves
+// the report incomplete).
 BoundsReport GatherRanks(const EquilibriumSystem& system, const std::vector<int>& selected, const Eigen::VectorXd& stored,
-                         const BoundsOptions& options, BoundsRecords& records) {
+                         BoundsRecords& records) {
   records.Merge();
-  BoundsOptions gather = options;
-  gather.shares = 1;
-  gather.share = 0;
-  gather.known = records.Known();
-  gather.on_bound = nullptr;
-  gather.start_before = Clock::now();
-  return ComputeForceBounds(system, selected, stored, gather);
+  return BoundsFromRecords(system, selected, stored, records.Known());
 }
 
 }  // namespace
@@ -298,10 +292,12 @@ int RunBounds(const BoundsFlags& f) {
     // Every rank's share is recorded (or a rank failed: then all end with its code).
     const int worst = mpi->WorstStatus(kOk);
     if (worst != kOk || rank != 0) return worst;
-    const long long feasibility = report.lp_iterations - records->WrittenIterations();
-    report = GatherRanks(system, selected, stored, bo, *records);
-    lp_iterations = feasibility + records->ObtainedIterations() - records->ResumedIterations();
-    lps_skipped = records->ShortcutsThisRun();
+    if (report.feasible) {  // (an infeasible ensemble's report is every rank's, whole)
+      const long long feasibility = report.lp_iterations - records->WrittenIterations();
+      report = GatherRanks(system, selected, stored, *records);
+      lp_iterations = feasibility + records->ObtainedIterations() - records->ResumedIterations();
+      lps_skipped = records->ShortcutsThisRun();
+    }
   }
   if (!report.complete) return StoppedAtTimeLimit(f, system, selected.size(), lp_iterations, lp_seconds, *records, start);
   const Indeterminacy nd = ForceIndeterminacy(system);

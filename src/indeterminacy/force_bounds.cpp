@@ -246,6 +246,35 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
   return report;
 }
 
+BoundsReport BoundsFromRecords(const EquilibriumSystem& system, const std::vector<int>& contacts,
+                               const Eigen::VectorXd& reference, const std::vector<BoundRecord>& known) {
+  const auto start = std::chrono::steady_clock::now();
+  BoundsOptions options;
+  options.known = known;
+  const BoundLog log(options);
+  const int stride = system.UnknownsPerContact();
+  BoundsReport report;
+  report.feasible = true;
+  report.bounds.resize(contacts.size());
+  for (std::size_t a = 0; a < contacts.size(); ++a) {
+    ContactBounds& b = report.bounds[a];
+    b.contact = contacts[a];
+    b.reference = reference.size() > 0 ? reference[stride * contacts[a]] : 0.0;
+    for (BoundKind kind : {BoundKind::kMax, BoundKind::kMaxWithoutFriction, BoundKind::kMin}) {
+      if (kind == BoundKind::kMaxWithoutFriction && !system.frictional) {
+        b.max_without_friction = b.max;
+      } else if (const Bound* given = log.Known(b.contact, kind)) {
+        b.Of(kind) = *given;
+        ++report.bounds_known;
+      } else {
+        report.complete = false;
+      }
+    }
+  }
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
 namespace {
 
 double LargestColumnNorm(const Eigen::SparseMatrix<double>& a) {

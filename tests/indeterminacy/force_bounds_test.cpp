@@ -289,6 +289,34 @@ TEST(ForceBounds, AFailureInABlockReachesTheCaller) {
 
 // Processes sharing the contacts (mpirun): share s of 2 on one thread solves the block of
 // thread s of one process on two threads, bit for bit, and only that block.
+TEST(ForceBounds, TheRecordsOfARunMakeItsReportWithoutAnLp) {
+  for (const char* name : {"pressure-n500-mu0.5", "pressure-n500-mu0"}) {
+    const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/" + name + ".unjam");
+    const EquilibriumSystem s = BuildEquilibriumSystem(scene);
+    const std::vector<int> some = {3, 40, 222};
+    Eigen::VectorXd reference = Eigen::VectorXd::LinSpaced(s.NumUnknowns(), 1.0, 2.0);
+    std::vector<BoundRecord> records;
+    BoundsOptions o;
+    o.on_bound = [&](const BoundRecord& r) { records.push_back(r); };
+    const BoundsReport run = ComputeForceBounds(s, some, reference, o);
+    ASSERT_TRUE(run.feasible);
+    const BoundsReport made = BoundsFromRecords(s, some, reference, records);
+    EXPECT_TRUE(made.feasible);
+    EXPECT_TRUE(made.complete) << name;
+    ASSERT_EQ(made.bounds.size(), some.size());
+    for (std::size_t a = 0; a < some.size(); ++a) {
+      EXPECT_EQ(made.bounds[a].contact, some[a]);
+      EXPECT_EQ(made.bounds[a].reference, run.bounds[a].reference);
+      for (BoundKind kind : {BoundKind::kMax, BoundKind::kMaxWithoutFriction, BoundKind::kMin}) {
+        EXPECT_EQ(made.bounds[a].Of(kind).status, run.bounds[a].Of(kind).status) << name << " " << ToString(kind);
+        EXPECT_EQ(made.bounds[a].Of(kind).value, run.bounds[a].Of(kind).value) << name << " " << ToString(kind);
+      }
+    }
+    records.pop_back();  // a bound no process obtained
+    EXPECT_FALSE(BoundsFromRecords(s, some, reference, records).complete) << name;
+  }
+}
+
 TEST(ForceBounds, TwoSharesAreTheBlocksOfTwoThreads) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);

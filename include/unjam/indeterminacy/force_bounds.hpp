@@ -106,6 +106,14 @@ struct BoundsReport {
 BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vector<int>& contacts,
                                 const Eigen::VectorXd& reference, const BoundsOptions& options = {});
 
+// The report that `known` alone makes, without an LP (rank 0 of an mpirun, once the ranks'
+// records are merged): every bound of `contacts` taken from `known`, the ensemble taken as
+// feasible (a run records bounds only after its feasibility LP), `complete` when none is
+// missing. A frictionless system's maximum without friction is its maximum, as
+// ComputeForceBounds gives it.
+BoundsReport BoundsFromRecords(const EquilibriumSystem& system, const std::vector<int>& contacts,
+                               const Eigen::VectorXd& reference, const std::vector<BoundRecord>& known);
+
 struct Indeterminacy {
   int unknowns = 0;                 // force components
   int equations = 0;                // balance rows
