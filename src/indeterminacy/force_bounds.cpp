@@ -114,12 +114,18 @@ std::vector<int> SpatialOrder(const EquilibriumSystem& s, const std::vector<int>
   return order;
 }
 
+using KnownBounds = std::map<std::pair<int, BoundKind>, Bound>;
+
+KnownBounds ByContactAndKind(const std::vector<BoundRecord>& records) {
+  KnownBounds known;
+  for (const BoundRecord& r : records) known[{r.contact, r.kind}] = r.bound;
+  return known;
+}
+
 // BoundsOptions::known by contact and kind, and the serialised BoundsOptions::on_bound.
 class BoundLog {
  public:
-  explicit BoundLog(const BoundsOptions& o) : on_bound_(o.on_bound) {
-    for (const BoundRecord& r : o.known) known_[{r.contact, r.kind}] = r.bound;
-  }
+  explicit BoundLog(const BoundsOptions& o) : known_(ByContactAndKind(o.known)), on_bound_(o.on_bound) {}
   const Bound* Known(int contact, BoundKind kind) const {
     const auto it = known_.find({contact, kind});
     return it == known_.end() ? nullptr : &it->second;
@@ -131,7 +137,7 @@ class BoundLog {
   }
 
  private:
-  std::map<std::pair<int, BoundKind>, Bound> known_;
+  KnownBounds known_;
   const std::function<void(const BoundRecord&)>& on_bound_;
   std::mutex mutex_;
 };
@@ -249,9 +255,7 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
 BoundsReport BoundsFromRecords(const EquilibriumSystem& system, const std::vector<int>& contacts,
                                const Eigen::VectorXd& reference, const std::vector<BoundRecord>& known) {
   const auto start = std::chrono::steady_clock::now();
-  BoundsOptions options;
-  options.known = known;
-  const BoundLog log(options);
+  const KnownBounds by_key = ByContactAndKind(known);
   const int stride = system.UnknownsPerContact();
   BoundsReport report;
   report.feasible = true;
@@ -263,8 +267,8 @@ BoundsReport BoundsFromRecords(const EquilibriumSystem& system, const std::vecto
     for (BoundKind kind : {BoundKind::kMax, BoundKind::kMaxWithoutFriction, BoundKind::kMin}) {
       if (kind == BoundKind::kMaxWithoutFriction && !system.frictional) {
         b.max_without_friction = b.max;
-      } else if (const Bound* given = log.Known(b.contact, kind)) {
-        b.Of(kind) = *given;
+      } else if (const auto it = by_key.find({b.contact, kind}); it != by_key.end()) {
+        b.Of(kind) = it->second;
         ++report.bounds_known;
       } else {
         report.complete = false;

@@ -287,8 +287,7 @@ TEST(ForceBounds, AFailureInABlockReachesTheCaller) {
   }
 }
 
-// Processes sharing the contacts (mpirun): share s of 2 on one thread solves the block of
-// thread s of one process on two threads, bit for bit, and only that block.
+// Rank 0 of an mpirun: the merged records alone remake the report of the run that wrote them.
 TEST(ForceBounds, TheRecordsOfARunMakeItsReportWithoutAnLp) {
   for (const char* name : {"pressure-n500-mu0.5", "pressure-n500-mu0"}) {
     const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/" + name + ".unjam");
@@ -317,6 +316,8 @@ TEST(ForceBounds, TheRecordsOfARunMakeItsReportWithoutAnLp) {
   }
 }
 
+// Processes sharing the contacts (mpirun): share s of 2 on one thread solves the block of
+// thread s of one process on two threads, bit for bit, and only that block.
 TEST(ForceBounds, TwoSharesAreTheBlocksOfTwoThreads) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
