@@ -361,6 +361,7 @@ int RunPerturb(const PerturbFlags& f) {
   const Scene scene = ReadPacking(f.file);
   const std::string fallback = PerturbationFallback(options, scene);  // before "auto" is resolved
   options.fallback = fallback.empty() ? "none" : fallback;
+  const bool lemke_left_for_size = AutoLeavesLemkeForSize(options, scene);  // before "auto" is resolved
   options.backend = PerturbationBackend(options, scene);
   if (scene.forces.empty()) {
     throw InputError(f.file, 0, "stores no static forces: run `unjam solve " + f.file + " -o FILE` first");
@@ -455,10 +456,7 @@ int RunPerturb(const PerturbFlags& f) {
   if (failed > 0) {
     std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, nonlinear: %d, blocked: %d)\n",
                  failed, summary.perturbations, summary.not_converged, summary.dynamic, summary.nonlinear, summary.blocked);
-    // `auto` resolved to newton on a large frictional packing (at fixed volume lemke is no
-    // better: its path ends on the unloaded solution).
-    if (summary.not_converged > 0 && f.solver.backend == "auto" && options.backend == "newton" &&
-        base.scene.effects.Frictional() && options.cell == CellCondition::kFixedPressure) {
+    if (summary.not_converged > 0 && lemke_left_for_size) {
       std::fprintf(stderr, "  (auto gave this packing of more than %zu contacts to newton, which stalls on quasi-static frictional "
                            "responses; lemke resolves them exactly, at minutes to an hour each: --backend lemke --max-iter 3000000, "
                            "and --lemke-box-first on piles; docs/perturbations.md, \"Which backend `auto` picks\")\n",

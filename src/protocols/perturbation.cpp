@@ -57,14 +57,19 @@ std::string PerturbationBackend(const PerturbationOptions& options, const Scene&
   // unloaded solution (F_crit ≈ 0, docs/perturbations.md); newton's proximal steps stay
   // nearest the static forces.
   if (!scene.effects.Frictional() || FixedVolumeCell(options, scene)) return "newton";
+  return AutoLeavesLemkeForSize(options, scene) ? "newton" : "lemke";
+}
+
+bool AutoLeavesLemkeForSize(const PerturbationOptions& options, const Scene& scene) {
+  if (options.backend != "auto" || !scene.effects.Frictional() || FixedVolumeCell(options, scene)) return false;
   // An option only lemke reads says which backend the user means, whatever the size.
-  if (LemkeOptionsGiven(options)) return "lemke";
+  if (LemkeOptionsGiven(options)) return false;
   // Lemke's paths lengthen faster than the packing grows, and its default budget (100 000
   // pivots) runs out: measured on `--sample 8 --seed 3` of packings made by the same recipe
   // (docs/perturbations.md, "Which backend `auto` picks"), lemke resolves 5 of 8 openings
   // at 1 287 contacts (newton 4, none of them quasi-static), none of 4 at 2 515 contacts
   // (6–8 minutes each) and none at 3 854 (12 minutes), where newton answers in 15–40 s.
-  return ForceCarryingPairs(scene).size() <= kLemkeAutoContacts ? "lemke" : "newton";
+  return ForceCarryingPairs(scene).size() > kLemkeAutoContacts;
 }
 
 std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene) {

@@ -191,10 +191,14 @@ TEST(Perturbation, AutoGivesLargeFrictionalPackingsToNewtonUnlessALemkeOptionIsS
   EXPECT_EQ(PerturbationFallback(o, small), "ipopt");
   EXPECT_EQ(PerturbationBackend(o, large), "newton");
   EXPECT_EQ(PerturbationFallback(o, large), "") << "lemke would take minutes to fail after newton";
+  EXPECT_TRUE(AutoLeavesLemkeForSize(o, large)) << "the case in which perturb names lemke as the remedy";
+  EXPECT_FALSE(AutoLeavesLemkeForSize(o, small));
+  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large_frictionless)) << "newton is auto's own choice without friction";
   EXPECT_EQ(PerturbationBackend(o, large_frictionless), "newton");
   EXPECT_EQ(PerturbationFallback(o, large_frictionless), "lemke") << "a frictionless step keeps lemke after newton";
   o.solver.lemke_box_rate_first = true;  // an option only lemke reads names the backend
   EXPECT_EQ(PerturbationBackend(o, large), "lemke");
+  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large));
   EXPECT_EQ(PerturbationFallback(o, large), "ipopt");
   o.solver.lemke_box_rate_first = false;
   o.prefer_quasi_static = true;
@@ -203,6 +207,10 @@ TEST(Perturbation, AutoGivesLargeFrictionalPackingsToNewtonUnlessALemkeOptionIsS
   o.cell = CellCondition::kFixedVolume;  // newton at fixed volume, whatever the size
   EXPECT_EQ(PerturbationBackend(o, small), "newton");
   EXPECT_EQ(PerturbationFallback(o, small), "");
+  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large)) << "at fixed volume lemke ends on the unloaded solution";
+  o.cell = CellCondition::kFixedPressure;
+  o.backend = "newton";  // a backend the user names is not second-guessed
+  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large));
 }
 
 TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {

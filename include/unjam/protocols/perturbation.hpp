@@ -107,6 +107,10 @@ inline constexpr std::size_t kLemkeAutoContacts = 2000;
 // ones, on frictionless ones (exact too, and 20× faster) and at fixed volume (where Lemke
 // picks the unloaded solution of a stress level that the frozen cell leaves free).
 std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene);
+// Whether "auto" leaves a frictional step at fixed pressure to newton only because the
+// packing has more than kLemkeAutoContacts contacts (where lemke would resolve what newton
+// stalls on, given minutes and a larger budget): the case in which `perturb` names lemke.
+bool AutoLeavesLemkeForSize(const PerturbationOptions& options, const Scene& scene);
 // The backend of the second solve of an unresolved step, or "" for none: options.fallback
 // resolved ("auto", when options.backend is "auto" too: ipopt after lemke, lemke after
 // newton on frictionless steps at fixed pressure, none otherwise; a backend the user names
