@@ -350,6 +350,58 @@ void PrintSummary(const nlohmann::json& j) {
   std::printf("seconds            %.3f\n", j["seconds"].get<double>());
 }
 
+// The targets not yet recorded, with their indices in the selection. Under mpirun rank r
+// owns the targets k = r mod ranks, by the selection alone, so that the ranks need not
+// agree on what is recorded (each reads the others' files while they are written).
+struct PendingTargets {
+  std::vector<PerturbationTarget> targets;
+  std::vector<int> index;
+};
+
+PendingTargets Pending(const Selection& selection, const std::map<int, ReducedResponse>& records, int rank, int ranks) {
+  PendingTargets pending;
+  for (int k = 0; k < static_cast<int>(selection.targets.size()); ++k) {
+    if (records.count(k) || k % ranks != rank) continue;
+    pending.targets.push_back(selection.targets[k]);
+    pending.index.push_back(k);
+  }
+  return pending;
+}
+
+void PrintProgress(const PerturbationResult& r, int done, int total, int rank, int ranks) {
+  const std::string who = ranks > 1 ? Format("perturb rank %d [%d/%d]", rank, done, total) : Format("perturb [%d/%d]", done, total);
+  std::fprintf(stderr, "%s %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n", who.c_str(),
+               TargetName(r.target).c_str(), r.f_crit, r.f_reference, r.penetration_depth, r.status.c_str(),
+               r.solve.iterations, r.solve.residual, r.seconds);
+  if (!r.resolved) std::fprintf(stderr, "  %s: %s\n", r.solve.backend.c_str(), r.solve.message.c_str());
+}
+
+void WriteEnsembleFiles(const std::filesystem::path& dir, const std::map<int, ReducedResponse>& records,
+                        const EnsembleSummary& summary, const nlohmann::json& out) {
+  WriteFileAtomically(dir / "perturbations.csv", PerturbationsCsv(records));
+  WriteFileAtomically(dir / "profile.csv", ProfileCsv(summary));
+  WriteFileAtomically(dir / "fcrit_histogram.csv", HistogramCsv(summary));
+  WriteFileAtomically(dir / "field.csv", FieldCsv(summary));
+  WriteFileAtomically(dir / "stress.csv", StressCsv(summary));
+  WriteFileAtomically(dir / "summary.json", out.dump(2) + "\n");
+}
+
+// Says on stderr which perturbations have no usable response, and where `auto` left lemke
+// out for the packing's size only, how to resolve them; the exit code.
+int ReportUnusable(const EnsembleSummary& summary, bool lemke_left_for_size, bool require_converged) {
+  const int failed = summary.not_converged + summary.dynamic + summary.nonlinear + summary.blocked;
+  if (failed == 0) return kOk;
+  std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, nonlinear: %d, blocked: %d)\n",
+               failed, summary.perturbations, summary.not_converged, summary.dynamic, summary.nonlinear, summary.blocked);
+  if (summary.not_converged > 0 && lemke_left_for_size) {
+    std::fprintf(stderr, "  (auto gave this packing of more than %zu contacts to newton, which stalls on quasi-static frictional "
+                         "responses; lemke resolves them exactly, at minutes to an hour each: --backend lemke --max-iter 3000000, "
+                         "and --lemke-box-first on piles; docs/perturbations.md, \"Which backend `auto` picks\")\n",
+                 kLemkeAutoContacts);
+  }
+  return require_converged ? kNotConverged : kOk;
+}
+
 }  // namespace
 
 int RunPerturb(const PerturbFlags& f) {
@@ -386,24 +438,15 @@ int RunPerturb(const PerturbFlags& f) {
     records = Resume(dir, header, own);
     log = AppendTo(own, header);
   }
-  // The targets not yet recorded; under mpirun rank r owns the targets k = r mod ranks, by
-  // the selection alone, so that the ranks need not agree on what is recorded (each reads
-  // the others' files while they are written).
-  std::vector<PerturbationTarget> todo;
-  std::vector<int> index_of;
-  for (int k = 0; k < static_cast<int>(selection.targets.size()); ++k) {
-    if (records.count(k) || k % ranks != rank) continue;
-    todo.push_back(selection.targets[k]);
-    index_of.push_back(k);
-  }
+  const PendingTargets pending = Pending(selection, records, rank, ranks);
   if (!f.quiet && !records.empty()) std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(), selection.targets.size());
   PerturbSchedule schedule;
   schedule.threads = ThreadsFromOption(f.threads);
   schedule.as_finished = true;  // each record written as soon as it exists
   if (f.time_limit) schedule.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
   const int total = static_cast<int>(selection.targets.size());
-  PerturbAll(base, todo, options, schedule, [&](int t, const PerturbationResult& r) {
-    const int k = index_of[t];
+  PerturbAll(base, pending.targets, options, schedule, [&](int t, const PerturbationResult& r) {
+    const int k = pending.index[t];
     ReducedResponse record = Reduce(base, r, layout, ensemble);
     if (log.is_open()) {
       nlohmann::json line = ToJson(record);
@@ -411,14 +454,7 @@ int RunPerturb(const PerturbFlags& f) {
       log << line.dump() << '\n' << std::flush;
       if (k == 0) WriteFullField(dir, base, r);
     }
-    if (!f.quiet) {
-      const std::string who = ranks > 1 ? Format("perturb rank %d [%d/%d]", rank, static_cast<int>(records.size()) + 1, total)
-                                        : Format("perturb [%d/%d]", static_cast<int>(records.size()) + 1, total);
-      std::fprintf(stderr, "%s %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n", who.c_str(),
-                   TargetName(r.target).c_str(), r.f_crit, r.f_reference,
-                   r.penetration_depth, r.status.c_str(), r.solve.iterations, r.solve.residual, r.seconds);
-      if (!r.resolved) std::fprintf(stderr, "  %s: %s\n", r.solve.backend.c_str(), r.solve.message.c_str());
-    }
+    if (!f.quiet) PrintProgress(r, static_cast<int>(records.size()) + 1, total, rank, ranks);
     records.emplace(k, std::move(record));
   });
   if (log.is_open()) log.close();
@@ -438,33 +474,14 @@ int RunPerturb(const PerturbFlags& f) {
   nlohmann::json out = SummaryJson(f, selection, options, base, summary, seconds);
   out["targets"] = total;
   out["complete"] = static_cast<int>(records.size()) == total;
-  if (!f.output_dir.empty()) {
-    WriteFileAtomically(dir / "perturbations.csv", PerturbationsCsv(records));
-    WriteFileAtomically(dir / "profile.csv", ProfileCsv(summary));
-    WriteFileAtomically(dir / "fcrit_histogram.csv", HistogramCsv(summary));
-    WriteFileAtomically(dir / "field.csv", FieldCsv(summary));
-    WriteFileAtomically(dir / "stress.csv", StressCsv(summary));
-    WriteFileAtomically(dir / "summary.json", out.dump(2) + "\n");
-  }
+  if (!f.output_dir.empty()) WriteEnsembleFiles(dir, records, summary, out);
   if (f.json) std::printf("%s\n", out.dump().c_str());
   else PrintSummary(out);
   if (!out["complete"].get<bool>() && !f.quiet) {
     std::fprintf(stderr, "perturb: stopped at the time limit with %zu of %d done; the same command continues from %s\n",
                  records.size(), total, (dir / "records.jsonl").string().c_str());
   }
-  const int failed = summary.not_converged + summary.dynamic + summary.nonlinear + summary.blocked;
-  if (failed > 0) {
-    std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, nonlinear: %d, blocked: %d)\n",
-                 failed, summary.perturbations, summary.not_converged, summary.dynamic, summary.nonlinear, summary.blocked);
-    if (summary.not_converged > 0 && lemke_left_for_size) {
-      std::fprintf(stderr, "  (auto gave this packing of more than %zu contacts to newton, which stalls on quasi-static frictional "
-                           "responses; lemke resolves them exactly, at minutes to an hour each: --backend lemke --max-iter 3000000, "
-                           "and --lemke-box-first on piles; docs/perturbations.md, \"Which backend `auto` picks\")\n",
-                   kLemkeAutoContacts);
-    }
-    if (f.solver.require_converged) return kNotConverged;
-  }
-  return kOk;
+  return ReportUnusable(summary, lemke_left_for_size, f.solver.require_converged);
 }
 
 }  // namespace unjam::cli
