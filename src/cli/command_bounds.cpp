@@ -251,6 +251,56 @@ BoundsReport GatherRanks(const EquilibriumSystem& system, const std::vector<int>
   return BoundsFromRecords(system, selected, stored, records.Known());
 }
 
+// What the bounds of a run add up to, for its summary.
+struct BoundsTally {
+  double width_sum = 0.0, reference_sum = 0.0;
+  int widths = 0, failed = 0, references = 0, no_pure_opening = 0;
+};
+
+BoundsTally Tally(const BoundsReport& report) {
+  BoundsTally t;
+  for (const ContactBounds& b : report.bounds) {
+    if (b.reference > 0.0) {
+      t.reference_sum += b.reference;
+      ++t.references;
+    }
+    if (b.max_without_friction.status == BoundStatus::kInfeasible && report.feasible) ++t.no_pure_opening;
+    if (b.min.ok() && b.max.ok()) {
+      t.width_sum += b.max.value - b.min.value;
+      ++t.widths;
+    } else {
+      ++t.failed;
+    }
+  }
+  return t;
+}
+
+// The text summary, from the JSON one (a null number, a mean over nothing, prints as nan).
+void PrintBoundsSummary(const nlohmann::json& j, double gap_tolerance, const char* lp_kind) {
+  auto num = [&](const char* key) { return j[key].is_null() ? std::nan("") : j[key].get<double>(); };
+  auto integer = [&](const char* key) { return j[key].get<int>(); };
+  const std::string message = j["message"].get<std::string>();
+  std::printf("contacts           %zu of %zu in the ensemble (gap <= %.3g)\n", j["contacts"].get<std::size_t>(),
+              j["ensemble_contacts"].get<std::size_t>(), gap_tolerance);
+  std::printf("ensemble           %s%s%s\n", j["feasible"].get<bool>() ? "feasible" : "INFEASIBLE", message.empty() ? "" : ": ", message.c_str());
+  std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n", integer("indeterminacy_dimension"), integer("unknowns"),
+              integer("rank"), num("rank_tolerance"));
+  if (integer("rank_qr_transpose") != integer("rank_qr_a")) {
+    std::printf("                   (QR estimates of the rank: %d from A, %d from its transpose)\n", integer("rank_qr_a"), integer("rank_qr_transpose"));
+  }
+  if (integer("bounded_contacts") > 0) {
+    std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n", num("mean_width"),
+                integer("bounded_contacts"), integer("unbounded_or_failed"));
+  }
+  if (j.contains("compared")) {
+    std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", integer("compared"), num("mean_rel_diff_fcrit"), num("max_rel_diff_fcrit"));
+    std::printf("openings           %d quasi-static (%d inside [LP min, LP max without friction], %d outside), %d dynamic\n",
+                integer("quasi_static"), integer("inside_interval"), integer("outside_interval"), integer("dynamic"));
+  }
+  std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", num("seconds"), num("lp_seconds"),
+              j["lp_iterations"].get<long long>(), lp_kind);
+}
+
 }  // namespace
 
 int RunBounds(const BoundsFlags& f) {
@@ -304,21 +354,7 @@ int RunBounds(const BoundsFlags& f) {
   std::optional<Comparison> cmp;
   if (f.compare_perturb && report.feasible) cmp = ComparePerturbations(scene, system, report, f, threads);
 
-  double width_sum = 0.0, reference_sum = 0.0;
-  int widths = 0, failed = 0, references = 0, no_pure_opening = 0;
-  for (const ContactBounds& b : report.bounds) {
-    if (b.reference > 0.0) {
-      reference_sum += b.reference;
-      ++references;
-    }
-    if (b.max_without_friction.status == BoundStatus::kInfeasible && report.feasible) ++no_pure_opening;
-    if (b.min.ok() && b.max.ok()) {
-      width_sum += b.max.value - b.min.value;
-      ++widths;
-    } else {
-      ++failed;
-    }
-  }
+  const BoundsTally tally = Tally(report);
   if (records) {
     WriteFileAtomically(f.output, Csv(system, report, cmp ? &*cmp : nullptr));
     records->Remove();
@@ -328,10 +364,10 @@ int RunBounds(const BoundsFlags& f) {
                         {"unknowns", nd.unknowns}, {"equations", nd.equations}, {"rank", nd.rank}, {"rank_qr_a", nd.rank_of_a}, {"rank_qr_transpose", nd.rank_transposed},
                         {"rank_tolerance", nd.tolerance}, {"indeterminacy_dimension", nd.dimension},
                         {"feasible", report.feasible}, {"message", report.message},
-                        {"mean_width", widths > 0 ? nlohmann::json(width_sum / widths) : nlohmann::json(nullptr)},
-                        {"bounded_contacts", widths}, {"unbounded_or_failed", failed},
-                        {"mean_fcont", references > 0 ? nlohmann::json(reference_sum / references) : nlohmann::json(nullptr)},
-                        {"no_frictionless_equilibrium", no_pure_opening},
+                        {"mean_width", tally.widths > 0 ? nlohmann::json(tally.width_sum / tally.widths) : nlohmann::json(nullptr)},
+                        {"bounded_contacts", tally.widths}, {"unbounded_or_failed", tally.failed},
+                        {"mean_fcont", tally.references > 0 ? nlohmann::json(tally.reference_sum / tally.references) : nlohmann::json(nullptr)},
+                        {"no_frictionless_equilibrium", tally.no_pure_opening},
                         {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", lp_iterations}, {"lps_skipped", lps_skipped},
                         {"bounds_resumed", records ? records->Resumed() : 0}, {"lp_iterations_resumed", records ? records->ResumedIterations() : 0}, {"complete", true},
                         {"lp_seconds", lp_seconds}, {"threads", lp == LpBackend::kIpopt ? 1 : threads}, {"ranks", ranks}, {"seconds", seconds}};
@@ -345,21 +381,8 @@ int RunBounds(const BoundsFlags& f) {
     out["outside_interval"] = cmp->WithInside(0);
   }
   if (!f.output.empty()) out["output"] = f.output;
-  if (f.json) {
-    std::printf("%s\n", out.dump().c_str());
-  } else {
-    std::printf("contacts           %zu of %zu in the ensemble (gap <= %.3g)\n", selected.size(), system.contacts.size(), f.gap_tolerance);
-    std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
-    std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n", nd.dimension, nd.unknowns, nd.rank, nd.tolerance);
-    if (nd.rank_transposed != nd.rank_of_a) std::printf("                   (QR estimates of the rank: %d from A, %d from its transpose)\n", nd.rank_of_a, nd.rank_transposed);
-    if (widths > 0) std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n", width_sum / widths, widths, failed);
-    if (cmp) {
-      std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", cmp->used, cmp->mean_rel_diff, cmp->max_rel_diff);
-      std::printf("openings           %d quasi-static (%d inside [LP min, LP max without friction], %d outside), %d dynamic\n",
-                  cmp->WithStatus("ok"), cmp->WithInside(1), cmp->WithInside(0), cmp->WithStatus("dynamic"));
-    }
-    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, lp_seconds, lp_iterations, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
-  }
+  if (f.json) std::printf("%s\n", out.dump().c_str());
+  else PrintBoundsSummary(out, f.gap_tolerance, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
   return report.feasible ? kOk : kNotConverged;
 }
 
