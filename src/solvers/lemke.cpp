@@ -286,92 +286,78 @@ bool AboveVelocityBound(const MatrixForm& k, const Eigen::VectorXd& impulses, co
   return true;
 }
 
-template <class Problem>
-SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
-  const auto start = std::chrono::steady_clock::now();
-  const int unknowns = static_cast<int>(k.h.rows());
-  Posed slip = Pose(k, ConeForm::kSlipSpeed);
-  // Runs tried in turn: from the warm start (the problem's guess), then from zero
-  // impulses, each with tie tolerances 1e-16, then 1e-14 and 1e-12 (lemke_mlcp.hpp); a
-  // path that ends on a ray, cycles or misses the tolerance is followed by the next run.
-  // Right after the first path from zero come paths from zero in the rate form (when the
-  // caller gives a velocity scale V, i.e. on a perturbation: ξ/Δt): the velocities, the
-  // velocity rows and the slip speeds in units of V, the impulses as they are (Pose). Its
-  // paths are other ones, since the covering vector is 1 in the new units: in the
-  // slip-speed form (ties 1e-16), in the box form (below), then in the slip-speed form
-  // with ties 1e-14. On tall piles they end where the paths in the step's own units
-  // cycle: on a 400-disk pile 24 diameters high, 13 of 17 top shifts and 6 of 17 bottom
-  // ones that no plain run solved exactly (the plain runs cycled at every tie tolerance,
-  // and the perturbed ones needed Newton's polish, which stalled); where both solve, the
-  // same answer. On the periodic μ = 0.1 packing the slip-speed form's rate paths do no
-  // better than the plain ones (4 of 10 openings alone), so they come after the first
-  // plain path, which keeps every answer it gave (docs/backends.md, "The rate form").
-  // Then come two perturbed runs (lemke_mlcp.hpp), of 1e-2 and then 1e-1 of the velocity
-  // scale (ξ/Δt for a perturbation): after the plain paths, so that an answer the plain
-  // paths reach is theirs, the end of the path from zero impulses. On the hyperstatic μ = 0.1
-  // packing the lexicographic order cannot be told in double precision: the impulses are
-  // O(1) and the network amplifies their round-off 10⁴–10⁵ times, so the velocities are
-  // known to about 1e-11, 1 % of ξ = 1e-9. With perturbations of 1e-3 ξ the four
-  // cycling openings tried still cycle, with 1e-2 ξ half of them, and with 1e-1 ξ none of
-  // five. The polished basis then misses the given problem by up to 3e-8 in the
-  // impulses, and Newton (newton.cpp) polishes the answer from there on the given
-  // problem. Only an answer within the tolerance is reported converged.
-  // Last, on frictional problems, the shifted-box form (top of the file): a path from zero
-  // and a perturbed one of 1e-2. Last, so that every answer of the first form stays
-  // as it was. Of the 21 openings of the μ = 0.1 sample that the first form left
-  // unresolved, the box form's path from zero solved 17 exactly, and its perturbed run
-  // with the polish the other 4 (docs/perturbations.md).
-  // Each run is bounded by 20 pivots per complementarity row and by the caller's
-  // max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
-  // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
-  // take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
-  // Runs in the rate form get 200 per row: on the first 6 top shifts of the 1600-disk pile
-  // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–108 pivots
-  // per row, where 20 stopped it; the bound of 100 that came first left 2 of the 6
-  // unresolved, at 101 and 108 (--max-iter must allow it: the default 100 000 pivots do
-  // not). A user may set another bound for every run (SolverOptions::lemke_pivots_per_row,
-  // --lemke-row-pivots).
-  // On those piles the plain and the slip-speed rate paths cycle first, at a quarter to a
-  // third of the pivots; SolverOptions::lemke_box_rate_first (--lemke-box-first) tries the
-  // box-form rate path first. Every path starts from zero, so where the paths before it
-  // cycle the answer is the same; where one of them solves, it may be another member.
-  // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
-  // The warm start's homotopy (--lemke-warm) runs in the rate form first where there is
-  // one (ties 1e-16, then 1e-14), then in the step's own units: on the 17 top shifts of
-  // the μ = 1 pile 25 wide its rate-form paths end quasi-static on 5 (3 of them on no
-  // cold run's path, all at ties 1e-14), in 1 900–8 100 pivots, where in the
-  // step's own units they end on rays or cycles on 15 (docs/perturbations.md, "At μ = 1").
-  const bool frictional = HasFriction(k);
-  Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
-  SolveResult result;
-  SolveReport& report = result.report;
-  report.backend = name;
-  std::string history;
-  int pivots = 0;
-  struct Run {
-    double tie;
-    const char* name;
-    bool warm;
-    double perturbation = 0.0;
-    ConeForm form = ConeForm::kSlipSpeed;
-    bool basis_only = false;  // the given basis solved as it is, no path
-    bool rate = false;        // velocities in units of the velocity scale
-  };
+// One run of Lemke's method: its path, form and tie tolerance.
+struct Run {
+  double tie;
+  const char* name;
+  bool warm;
+  double perturbation = 0.0;
+  ConeForm form = ConeForm::kSlipSpeed;
+  bool basis_only = false;  // the given basis solved as it is, no path
+  bool rate = false;        // velocities in units of the velocity scale
+};
+
+// Runs tried in turn: from the warm start (the problem's guess), then from zero
+// impulses, each with tie tolerances 1e-16, then 1e-14 and 1e-12 (lemke_mlcp.hpp); a
+// path that ends on a ray, cycles or misses the tolerance is followed by the next run.
+// Right after the first path from zero come paths from zero in the rate form (when the
+// caller gives a velocity scale V, i.e. on a perturbation: ξ/Δt): the velocities, the
+// velocity rows and the slip speeds in units of V, the impulses as they are (Pose). Its
+// paths are other ones, since the covering vector is 1 in the new units: in the
+// slip-speed form (ties 1e-16), in the box form (below), then in the slip-speed form
+// with ties 1e-14. On tall piles they end where the paths in the step's own units
+// cycle: on a 400-disk pile 24 diameters high, 13 of 17 top shifts and 6 of 17 bottom
+// ones that no plain run solved exactly (the plain runs cycled at every tie tolerance,
+// and the perturbed ones needed Newton's polish, which stalled); where both solve, the
+// same answer. On the periodic μ = 0.1 packing the slip-speed form's rate paths do no
+// better than the plain ones (4 of 10 openings alone), so they come after the first
+// plain path, which keeps every answer it gave (docs/backends.md, "The rate form").
+// Then come two perturbed runs (lemke_mlcp.hpp), of 1e-2 and then 1e-1 of the velocity
+// scale (ξ/Δt for a perturbation): after the plain paths, so that an answer the plain
+// paths reach is theirs, the end of the path from zero impulses. On the hyperstatic μ = 0.1
+// packing the lexicographic order cannot be told in double precision: the impulses are
+// O(1) and the network amplifies their round-off 10⁴–10⁵ times, so the velocities are
+// known to about 1e-11, 1 % of ξ = 1e-9. With perturbations of 1e-3 ξ the four
+// cycling openings tried still cycle, with 1e-2 ξ half of them, and with 1e-1 ξ none of
+// five. The polished basis then misses the given problem by up to 3e-8 in the
+// impulses, and Newton (newton.cpp) polishes the answer from there on the given
+// problem. Only an answer within the tolerance is reported converged.
+// Last, on frictional problems, the shifted-box form (top of the file): a path from zero
+// and a perturbed one of 1e-2. Last, so that every answer of the first form stays
+// as it was. Of the 21 openings of the μ = 0.1 sample that the first form left
+// unresolved, the box form's path from zero solved 17 exactly, and its perturbed run
+// with the polish the other 4 (docs/perturbations.md).
+// Each run is bounded by 20 pivots per complementarity row and by the caller's
+// max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
+// N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
+// take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
+// Runs in the rate form get 200 per row: on the first 6 top shifts of the 1600-disk pile
+// (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–108 pivots
+// per row, where 20 stopped it; the bound of 100 that came first left 2 of the 6
+// unresolved, at 101 and 108 (--max-iter must allow it: the default 100 000 pivots do
+// not). A user may set another bound for every run (SolverOptions::lemke_pivots_per_row,
+// --lemke-row-pivots).
+// On those piles the plain and the slip-speed rate paths cycle first, at a quarter to a
+// third of the pivots; SolverOptions::lemke_box_rate_first (--lemke-box-first) tries the
+// box-form rate path first. Every path starts from zero, so where the paths before it
+// cycle the answer is the same; where one of them solves, it may be another member.
+// A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
+// The warm start's homotopy (--lemke-warm) runs in the rate form first where there is
+// one (ties 1e-16, then 1e-14), then in the step's own units: on the 17 top shifts of
+// the μ = 1 pile 25 wide its rate-form paths end quasi-static on 5 (3 of them on no
+// cold run's path, all at ties 1e-14), in 1 900–8 100 pivots, where in the
+// step's own units they end on rays or cycles on 15 (docs/perturbations.md, "At μ = 1").
+// The rate form is the slip-speed form itself when no velocity scale is given (rate_form
+// false).
+std::vector<Run> PlanRuns(bool given_basis, bool has_guess, bool rate_form, bool frictional, bool box_rate_first) {
   std::vector<Run> runs;
-  const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
-                         problem.initial_guess.allFinite() && problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
-  const double velocity_scale = o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale : 1.0;
-  const Eigen::VectorXd guess = has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
-  const std::vector<char> given_basis = ExpandBasis(k, InitialBasisOf(problem), slip.enc.variables);
-  if (!given_basis.empty()) runs.push_back({0.0, "none", false, 0.0, ConeForm::kSlipSpeed, true});
-  if (has_guess && velocity_scale != 1.0) {
+  if (given_basis) runs.push_back({0.0, "none", false, 0.0, ConeForm::kSlipSpeed, true});
+  if (has_guess && rate_form) {
     runs.insert(runs.end(), {{1e-16, "1e-16", true, 0.0, ConeForm::kSlipSpeed, false, true},
                              {1e-14, "1e-14", true, 0.0, ConeForm::kSlipSpeed, false, true}});
   }
   if (has_guess) runs.insert(runs.end(), {{1e-16, "1e-16", true}, {1e-14, "1e-14", true}});
   runs.push_back({1e-16, "1e-16", false});
-  // The rate form is the slip-speed form itself when no velocity scale is given.
-  const bool rate_form = velocity_scale != 1.0;
   if (rate_form) {
     runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kSlipSpeed, false, true});
     if (frictional) runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox, false, true});
@@ -384,12 +370,45 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
                              {1e-16, "1e-16", false, 1e-2, ConeForm::kShiftedBox}});
   }
   if (rate_form) runs.push_back({1e-16, "1e-16", false, 1e-2, ConeForm::kSlipSpeed, false, true});
-  if (o.lemke_box_rate_first && rate_form && frictional) {
+  if (box_rate_first && rate_form && frictional) {
     // The box-form path in the rate form first, after the given basis and the warm start.
     const auto box_rate = std::find_if(runs.begin(), runs.end(), [](const Run& r) { return r.rate && r.form == ConeForm::kShiftedBox; });
     const auto first_cold = std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.basis_only && !r.warm; });
     std::rotate(first_cold, box_rate, box_rate + 1);
   }
+  return runs;
+}
+
+// What a run did, for the solver's message.
+std::string RunAccount(const Run& run, const lemke_internal::LemkeResult& lemke, double residual) {
+  const bool solved = lemke.outcome == lemke_internal::LemkeOutcome::kSolved;
+  const std::string failure = std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")";
+  if (run.basis_only) return "the given basis: " + (solved ? "residual " + Scientific(residual) : failure);
+  const bool perturbed = run.perturbation > 0.0;
+  return std::string(run.rate ? "rate form, " : "") + (run.form == ConeForm::kShiftedBox ? "box form, " : "") +
+         (run.warm ? std::string("warm") : perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) +
+         ", ties " + run.name + ": " + (solved ? std::string("solved") : failure) + " after " + std::to_string(lemke.pivots) + " pivots";
+}
+
+template <class Problem>
+SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
+  const auto start = std::chrono::steady_clock::now();
+  const int unknowns = static_cast<int>(k.h.rows());
+  Posed slip = Pose(k, ConeForm::kSlipSpeed);
+  const bool frictional = HasFriction(k);
+  Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};
+  SolveResult result;
+  SolveReport& report = result.report;
+  report.backend = name;
+  std::string history;
+  int pivots = 0;
+  const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
+                         problem.initial_guess.allFinite() && problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
+  const double velocity_scale = o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale : 1.0;
+  const Eigen::VectorXd guess = has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
+  const std::vector<char> given_basis = ExpandBasis(k, InitialBasisOf(problem), slip.enc.variables);
+  const bool rate_form = velocity_scale != 1.0;
+  const std::vector<Run> runs = PlanRuns(!given_basis.empty(), has_guess, rate_form, frictional, o.lemke_box_rate_first);
   std::optional<Posed> rate_slip, rate_box;  // the rate form, posed when its first run comes
   auto posed_for = [&](const Run& run) -> Posed& {
     const bool is_box = run.form == ConeForm::kShiftedBox;
@@ -415,15 +434,8 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     double residual = ComputeResidual(problem, impulses).residual;
     const bool solved = lemke.outcome == lemke_internal::LemkeOutcome::kSolved;
     bool exact = solved;
-    const std::string failure = std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")";
     if (!history.empty()) history += "; ";
-    if (run.basis_only) {
-      history += "the given basis: " + (solved ? "residual " + Scientific(residual) : failure);
-    } else {
-      history += std::string(run.rate ? "rate form, " : "") + (run.form == ConeForm::kShiftedBox ? "box form, " : "") +
-                 (run.warm ? std::string("warm") : perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) +
-                 ", ties " + run.name + ": " + (solved ? std::string("solved") : failure) + " after " + std::to_string(lemke.pivots) + " pivots";
-    }
+    history += RunAccount(run, lemke, residual);
     if (perturbed && solved) {
       history += " (without the perturbation, basic values down to " + Scientific(-lemke.polish_violation) + ")";
       if (residual > o.tolerance) {
