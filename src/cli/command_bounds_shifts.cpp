@@ -128,6 +128,25 @@ ShiftSelection SelectShifts(const BoundsFlags& f, const PerturbationBase& base) 
           "of particle " + std::to_string(particle) + (down ? " (pushed down)" : " (pushed up)")};
 }
 
+// The text summary of a run.
+void PrintShiftBounds(const ShiftSelection& selection, std::size_t shifts, const ShiftBoundsReport& report, const Means& m,
+                      const std::optional<ShiftComparison>& cmp, double seconds, bool cold) {
+  std::printf("shifts             %zu %s\n", shifts, selection.description.c_str());
+  std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
+  std::printf("bounded            %d of %zu (no upper bound, a network resists any push: %d; no lower bound: %d; failed: %d)\n",
+              m.bounded, shifts, m.no_upper_bound, m.no_lower_bound, m.failed);
+  std::printf("need no force      %d (max below perturb's rattler threshold: rattlers whatever the solver)\n", m.need_no_force);
+  if (m.bounded > 0) {
+    std::printf("means              F_y %.6g, F_crit of the stored network %.6g, LP min %.6g, LP max %.6g\n", m.f_y, m.f_static, m.min, m.max);
+  }
+  if (cmp) {
+    std::printf("perturb            %d ok, %d nonlinear (quasi-static: %d inside [LP min, LP max], %d outside), %d dynamic, %d blocked\n",
+                cmp->WithStatus("ok"), cmp->WithStatus("nonlinear"), cmp->WithInside(1), cmp->WithInside(0),
+                cmp->WithStatus("dynamic"), cmp->WithStatus("blocked"));
+  }
+  std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, cold ? "cold" : "warm");
+}
+
 }  // namespace
 
 int RunShiftBounds(const BoundsFlags& f) {
@@ -175,24 +194,8 @@ int RunShiftBounds(const BoundsFlags& f) {
     out["outside_interval"] = cmp->WithInside(0);
   }
   if (!f.output.empty()) out["output"] = f.output;
-  if (f.json) {
-    std::printf("%s\n", out.dump().c_str());
-  } else {
-    std::printf("shifts             %zu %s\n", shifts.size(), selection.description.c_str());
-    std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
-    std::printf("bounded            %d of %zu (no upper bound, a network resists any push: %d; no lower bound: %d; failed: %d)\n",
-                m.bounded, shifts.size(), m.no_upper_bound, m.no_lower_bound, m.failed);
-    std::printf("need no force      %d (max below perturb's rattler threshold: rattlers whatever the solver)\n", m.need_no_force);
-    if (m.bounded > 0) {
-      std::printf("means              F_y %.6g, F_crit of the stored network %.6g, LP min %.6g, LP max %.6g\n", m.f_y, m.f_static, m.min, m.max);
-    }
-    if (cmp) {
-      std::printf("perturb            %d ok, %d nonlinear (quasi-static: %d inside [LP min, LP max], %d outside), %d dynamic, %d blocked\n",
-                  cmp->WithStatus("ok"), cmp->WithStatus("nonlinear"), cmp->WithInside(1), cmp->WithInside(0),
-                  cmp->WithStatus("dynamic"), cmp->WithStatus("blocked"));
-    }
-    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, f.cold ? "cold" : "warm");
-  }
+  if (f.json) std::printf("%s\n", out.dump().c_str());
+  else PrintShiftBounds(selection, shifts.size(), report, m, cmp, seconds, f.cold);
   return report.feasible ? kOk : kNotConverged;
 }
 
