@@ -9,7 +9,9 @@ shift) can be looked at while it runs or after it was stopped; rerunning the sam
 (bench/results/ensembles/NAME, written by scripts/long-ensembles.sh).
 
 Prints per status the count, ⟨F_crit⟩/⟨F_y⟩ over the quasi-static (`ok`) shifts with its
-standard error (F_y the shifted particle's effective weight, the records' f_reference),
+standard error (F_y the shifted particle's effective weight, the records' f_reference;
+rattlers, bottom grains that need no force to lift, are left out as perturb leaves them
+out of its averages),
 and where each quasi-static F_crit sits in its LP interval ((F_crit − min)/(max − min);
 inside means within 1e-6 of it, which covers F_crit's O(ξ) inertial part on these piles).
 With a third argument, writes the joined rows as CSV.
@@ -63,23 +65,27 @@ def main(records_path, bounds_path, joined_path=None):
         where = (f - lo) / (hi - lo) if hi > lo and math.isfinite(f) and math.isfinite(hi - lo) else math.nan
         rows.append({"index": rec["index"], "particle": particle, "status": rec["status"], "f_crit": f,
                      "fcrit_10xi": rec.get("fcrit_10xi"), "f_y": rec["f_reference"], "lp_min": lo, "lp_max": hi,
-                     "inside": inside, "position": where, "delta": rec["penetration_depth"],
+                     "rattler": bool(rec.get("rattler", False)), "inside": inside, "position": where, "delta": rec["penetration_depth"],
                      "iterations": rec["iterations"], "residual": rec["residual"], "seconds": rec["seconds"]})
     rows.sort(key=lambda r: r["index"])
     print(f"{len(rows)} shifts finished: " + ", ".join(f"{n} {s}" for s, n in sorted(Counter(r['status'] for r in rows).items())))
     ok = [r for r in rows if r["status"] == "ok"]
-    if ok:
-        m_f = statistics.mean(r["f_crit"] for r in ok)
-        m_y = statistics.mean(r["f_y"] for r in ok)
-        ratios = [r["f_crit"] / r["f_y"] for r in ok]
+    used = [r for r in ok if not r["rattler"]]
+    if used:
+        m_f = statistics.mean(r["f_crit"] for r in used)
+        m_y = statistics.mean(r["f_y"] for r in used)
+        ratios = [r["f_crit"] / r["f_y"] for r in used]
         ratio, se = statistics.mean(ratios), standard_error(ratios)
+        spread = f" ± {se:.2g}" if len(used) > 1 else " (one shift: no error)"
+        rattlers = len(ok) - len(used)
+        left_out = f" ({rattlers} rattler{'s' if rattlers > 1 else ''} left out)" if rattlers else ""
+        print(f"ok: <F_crit>/<F_y> = {m_f / m_y:.3g}; per shift F_crit/F_y = {ratio:.3g}{spread}{left_out}")
+    if ok:
         positions = [r["position"] for r in ok if math.isfinite(r["position"])]
-        spread = f" ± {se:.2g}" if len(ok) > 1 else " (one shift: no error)"
-        print(f"ok: <F_crit>/<F_y> = {m_f / m_y:.3g}; per shift F_crit/F_y = {ratio:.3g}{spread}")
         print(f"ok: {sum(r['inside'] for r in ok)} of {len(ok)} inside their LP interval, at "
               f"{min(positions):.3f}–{max(positions):.3f} of its width")
     for r in rows:
-        print(f"  {r['particle']:5d} {r['status']:14s} F_crit {r['f_crit']:.6g}  F_y {r['f_y']:.4g}  "
+        print(f"  {r['particle']:5d} {r['status'] + (' rattler' if r['rattler'] else ''):14s} F_crit {r['f_crit']:.6g}  F_y {r['f_y']:.4g}  "
               f"LP [{r['lp_min']:.4g}, {r['lp_max']:.4g}] at {r['position']:.3f}  {r['iterations']} pivots  {r['seconds']:.0f} s")
     if joined_path:
         with open(joined_path, "w", newline="") as out:
