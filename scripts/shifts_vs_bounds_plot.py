@@ -6,7 +6,10 @@ the interval is a bar (an arrow where it is unbounded), each run's F_crit a mark
 filled where the response is quasi-static and linear (`ok`), hollow where it is
 `dynamic`, `nonlinear` or unresolved.
 
-Usage: scripts/shifts_vs_bounds_plot.py BOUNDS_CSV OUT.png TITLE LABEL=PERTURBATIONS_CSV...
+Usage: scripts/shifts_vs_bounds_plot.py [--floor=Y] BOUNDS_CSV OUT.png TITLE LABEL=PERTURBATIONS_CSV...
+  --floor=Y  cut the axis at Y: an interval that reaches below it is drawn to it with an
+             arrow, as an unbounded one (on the 1600-disk pile two bottom shifts' intervals
+             reach −7 000 while every F_crit is above −1)
 """
 import csv
 import math
@@ -21,14 +24,18 @@ def number(text):
     return float(text) if text not in ("", "nan", "-nan") else math.nan
 
 
-def main(bounds_path, out_path, title, *runs):
+def main(bounds_path, out_path, title, *runs, cut=None):
     bounds = sorted(csv.DictReader(open(bounds_path)), key=lambda b: number(b["x"]))
     column = {int(b["particle"]): k for k, b in enumerate(bounds)}
     lows = [number(b["min"]) for b in bounds]
+    if cut is not None:
+        lows = [lo if lo >= cut else -math.inf for lo in lows]
     highs = [number(b["max"]) for b in bounds]
     finite = [v for v in lows + highs if math.isfinite(v)]
     span = max(finite) - min(finite) if finite else 1.0
     floor, ceiling = min(finite) - 0.1 * span, max(finite) + 0.1 * span
+    if cut is not None:
+        floor = min(floor, cut)
     fig, ax = plt.subplots(figsize=(max(6.0, 0.45 * len(bounds)), 4.6))
     for k, (lo, hi) in enumerate(zip(lows, highs)):
         bottom = lo if math.isfinite(lo) else floor
@@ -64,6 +71,10 @@ def main(bounds_path, out_path, title, *runs):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) < 5:
+    args = sys.argv[1:]
+    cut = None
+    if args and args[0].startswith("--floor="):
+        cut = float(args.pop(0).split("=", 1)[1])
+    if len(args) < 4:
         sys.exit(__doc__)
-    main(*sys.argv[1:])
+    main(*args, cut=cut)
