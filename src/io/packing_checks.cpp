@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <limits>
+#include <map>
 #include <stdexcept>
+#include <tuple>
 
 #include "text_fields.hpp"
 #include "unjam/contacts/contact.hpp"
@@ -69,6 +71,29 @@ void CheckPrescribed(const Scene& scene, const SourceLines& source, const std::s
   }
 }
 
+// The contact a force line names, the same whichever of its two disks comes first: (i, j)
+// at image m is (j, i) at image −m. A wall (j < 0) is always second.
+std::tuple<int, int, int, int> ContactKey(const ContactForce& f) {
+  if (IsWallIndex(f.j) || f.i < f.j) return {f.i, f.j, f.image[0], f.image[1]};
+  return {f.j, f.i, -f.image[0], -f.image[1]};
+}
+
+// A contact has one force: a second line for it would be counted as a second contact
+// (coordination, force statistics) and give the warm start two values.
+void CheckDuplicateForces(const Scene& scene, const SourceLines& source, const std::string& name) {
+  std::map<std::tuple<int, int, int, int>, int> first_line;
+  for (std::size_t k = 0; k < scene.forces.size(); ++k) {
+    const ContactForce& f = scene.forces[k];
+    const auto [first, inserted] = first_line.emplace(ContactKey(f), source.forces[k]);
+    if (inserted) continue;
+    const std::string contact = IsWallIndex(f.j) ? "particle " + Index(f.i) + " on wall " + Index(JToWallIndex(f.j)) + " ("
+                                                 : "particles " + Index(f.i) + " and " + Index(f.j) + " (image " +
+                                                       Index(f.image[0]) + " " + Index(f.image[1]) + "; ";
+    throw InputError(name, source.forces[k],
+                     "duplicate force of " + contact + "first given on line " + Index(first->second) + ")");
+  }
+}
+
 // j is a particle index, or a wall encoded as −1 − wall.
 void CheckForces(const Scene& scene, const SourceLines& source, const std::string& name) {
   const int n = static_cast<int>(scene.particles.size());
@@ -94,6 +119,7 @@ void CheckForces(const Scene& scene, const SourceLines& source, const std::strin
     if (f.i == f.j) throw InputError(name, line, "a force needs two different particles");
     CheckImage(f.image, scene.cell.periodicity, name, line);
   }
+  CheckDuplicateForces(scene, source, name);
 }
 
 // Contact detection uses minimum images, which needs periodic lengths of at least

@@ -334,6 +334,8 @@ void PackingParser::ParseForces() {
                    static_cast<int>(ParseInteger(fields_[3], "image y", -1, 1))};
     force.normal = Value(4, "normal force");
     force.tangential = Value(5, "tangential force");
+    // A contact pushes, never pulls: a negative normal force is no static force of rigid disks.
+    if (force.normal < 0.0) throw FieldError("normal force must not be negative, got " + DoubleToString(force.normal));
     scene_.forces.push_back(force);
     source_.forces.push_back(line_number_);
   }

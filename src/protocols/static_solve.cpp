@@ -132,12 +132,16 @@ StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const Static
   return out;
 }
 
+// Normals projected onto f_n >= 0: backends end a round-off outside the cone (newton by
+// 1e-23, ipopt by its bound relaxation, -6e-13 on the 500-disk cell from cold), and a stored
+// force never pulls: the reader refuses a negative one.
 std::vector<ContactForce> ToContactForces(const StaticSolution& solution) {
   std::vector<ContactForce> forces;
   for (std::size_t k = 0; k < solution.contacts.size(); ++k) {
-    if (solution.forces[k][0] == 0.0 && solution.forces[k][1] == 0.0) continue;
+    const double normal = std::max(0.0, solution.forces[k][0]), tangential = solution.forces[k][1];
+    if (normal == 0.0 && tangential == 0.0) continue;
     const Contact& c = solution.contacts[k];
-    forces.push_back({c.i, c.j, c.image, solution.forces[k][0], solution.forces[k][1]});
+    forces.push_back({c.i, c.j, c.image, normal, tangential});
   }
   return forces;
 }

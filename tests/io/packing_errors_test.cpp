@@ -122,6 +122,13 @@ std::vector<ErrorCase> Cases() {
        "wall 0) out of range (0 walls)"},
       {"ForceSelfPair", InsertBefore(9, "forces 1\n1 1 0 0 1 0"), 10, "two different particles"},
       {"ForceImageTooLarge", InsertBefore(9, "forces 1\n0 1 2 0 1 0"), 10, "image x"},
+      {"ForceDuplicated", InsertBefore(9, "forces 2\n0 1 0 0 1 0\n0 1 0 0 2 0"), 11,
+       "duplicate force of particles 0 and 1 (image 0 0; first given on line 10)"},
+      {"ForceDuplicatedReversed", InsertBefore(9, "forces 3\n0 2 0 0 1 0\n0 1 1 0 1 0\n1 0 -1 0 1 0"), 12,
+       "duplicate force of particles 1 and 0 (image -1 0; first given on line 11)"},
+      {"ForceDuplicatedOnWall", Replace(3, "periodic x\nwall 0 0 0 1\nforces 2\n0 -1 0 0 1 0\n0 -1 0 0 1 0"), 7,
+       "duplicate force of particle 0 on wall 0 (first given on line 6)"},
+      {"ForceNegativeNormal", InsertBefore(9, "forces 1\n0 1 0 0 -1e-300 0"), 10, "normal force must not be negative"},
       {"ForceMissingLine", InsertBefore(9, "forces 2\n0 1 0 0 1 0"), 11, "expected 2 force line(s), found 1"},
       {"MotionOutOfRange", InsertBefore(5, "prescribed-motion 3 0 0 0"), 5, "out of range (3 particles)"},
       {"MotionTwice", InsertBefore(5, "prescribed-motion 1 0 0 0\nprescribed-motion 1 1 0 0"), 6,
@@ -157,6 +164,13 @@ INSTANTIATE_TEST_SUITE_P(AllClasses, PackingErrors, ::testing::ValuesIn(Cases())
                          [](const ::testing::TestParamInfo<ErrorCase>& info) { return info.param.name; });
 
 TEST(PackingErrorsBase, TheBaseFileIsValid) { EXPECT_NO_THROW(ParsePacking(Join(kValid), "base.unjam")); }
+
+// Two contacts of one pair through different periodic images are two contacts; a normal
+// force of −0 is zero.
+TEST(PackingErrorsBase, ForcesOfOnePairAtOtherImagesAndNegativeZeroAreAccepted) {
+  const Scene scene = ParsePacking(InsertBefore(9, "forces 3\n0 1 0 0 1 0\n0 1 -1 0 1 0\n1 0 -1 0 -0 0"), "images.unjam");
+  EXPECT_EQ(scene.forces.size(), 3u);
+}
 
 }  // namespace
 }  // namespace unjam

@@ -33,6 +33,25 @@ double NormalForceBetween(const StaticSolution& s, int i, int j) {
   return NAN;
 }
 
+// A backend's round-off below zero is stored as no normal force: a file never holds a
+// pulling contact (the reader refuses one).
+TEST(StaticSolve, StoredNormalForcesNeverPull) {
+  StaticSolution s;
+  s.contacts.resize(3);
+  for (int k = 0; k < 3; ++k) {
+    s.contacts[k].i = k;
+    s.contacts[k].j = k + 1;
+  }
+  s.forces = {Eigen::Vector2d(-6e-13, 0.0), Eigen::Vector2d(-1e-23, 1e-30), Eigen::Vector2d(1.5, -0.2)};
+  const std::vector<ContactForce> stored = ToContactForces(s);
+  ASSERT_EQ(stored.size(), 2u);
+  EXPECT_EQ(stored[0].i, 1);
+  EXPECT_EQ(stored[0].normal, 0.0);
+  EXPECT_EQ(stored[0].tangential, 1e-30);
+  EXPECT_EQ(stored[1].normal, 1.5);
+  EXPECT_EQ(stored[1].tangential, -0.2);
+}
+
 TEST(StaticSolve, DiskOnAFixedDiskCarriesItsWeight) {
   for (double mu : {0.0, 0.5}) {
     Scene s;

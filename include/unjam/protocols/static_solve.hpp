@@ -67,7 +67,8 @@ StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& op
 // looked at it first (a perturbation checks its kinematics), without posing it again.
 StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const StaticSolveOptions& options);
 
-// The forces as the scene stores them (only force-carrying contacts).
+// The forces as the scene stores them (only force-carrying contacts), a normal force below
+// zero (round-off of a backend) stored as 0.
 std::vector<ContactForce> ToContactForces(const StaticSolution& solution);
 
 }  // namespace unjam
