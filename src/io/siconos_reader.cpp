@@ -304,6 +304,21 @@ void ReadSparse(Scanner& s, int n, Triplets& entries) {
   }
 }
 
+// W = H M⁻¹ Hᵀ of a mechanical problem has a positive diagonal: each row of H moves some
+// body. Where an entry is zero or negative the problem is ill-posed (W = 0 has r = 0 for an
+// answer whatever q says), and a backend's "converged" would be a wrong answer reported as
+// right; so it is refused here, at `line`, where W begins.
+void CheckDelassusDiagonal(const Scanner& s, const Eigen::SparseMatrix<double>& w, int line) {
+  for (Eigen::Index i = 0; i < w.rows(); ++i) {
+    const double d = w.coeff(i, i);
+    if (d > 0.0) continue;
+    const std::string row = std::to_string(i);
+    s.Fail(line, "contact " + std::to_string(i / 2) + ": W[" + row + "][" + row + "] (its " + (i % 2 == 0 ? "normal" : "tangential") +
+                     " diagonal entry) is " + io_internal::DoubleToString(d) +
+                     ", not positive: W is not a Delassus operator (H M^-1 H^T has a positive diagonal)");
+  }
+}
+
 Eigen::SparseMatrix<double> ReadMatrix(Scanner& s, int nc) {
   const int n = 2 * nc;
   int line = 0;
@@ -320,6 +335,7 @@ Eigen::SparseMatrix<double> ReadMatrix(Scanner& s, int nc) {
   Eigen::SparseMatrix<double> w(n, n);
   w.setFromTriplets(entries.begin(), entries.end());  // sums repeated entries, as CSparse
   w.prune([](Eigen::Index, Eigen::Index, double v) { return v != 0.0; });
+  CheckDelassusDiagonal(s, w, line);
   return w;
 }
 

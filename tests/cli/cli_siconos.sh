@@ -110,6 +110,23 @@ grep -q "truncated.dat:9: truncated" "$work/err" || fail "truncation not named: 
 { cat "$problems/one-contact-stick.dat"; echo 0.5; } >"$work/extra.dat"
 expect_code 1 "extra number" "$unjam" solve "$work/extra.dat"
 grep -q "extra.dat:11: unexpected data" "$work/err" || fail "extra data not named: $(cat "$work/err")"
+# An ill-posed W (a diagonal entry <= 0: no Delassus operator H M^-1 H^T) is refused before
+# any backend can call it solved: exit 1, the file, line and contact named, nothing written.
+printf '2\n2\n0\n4 4\n4 4\n-2 0 0 0\n0 -4 0 0\n0 0 -2 0\n0 0 0 -4\n-1 0 -1 0\n0.5 0.5\n' >"$work/negative-w.dat"
+printf '2\n2\n0\n4 4\n4 4\n0 0 0 0\n0 0 0 0\n0 0 0 0\n0 0 0 0\n-1 0 -1 0\n0.5 0.5\n' >"$work/zero-w.dat"
+sed '8s/^0 3 0 0.5$/0 0 0 0.5/' "$problems/two-contacts-stick-dense.dat" >"$work/zero-tangent.dat"
+for bad in negative-w zero-w zero-tangent; do
+  for backend in nsgs newton lemke; do
+    expect_code 1 "$bad with $backend" "$unjam" solve "$work/$bad.dat" --backend "$backend" --json -o "$work/never.txt" --export-problem "$work/never.dat"
+    grep -q "converged" "$work/out" && fail "$bad with $backend: a solution was reported: $(cat "$work/out")"
+  done
+done
+expect_code 1 "negative W, text" "$unjam" solve "$work/negative-w.dat"
+grep -q "negative-w.dat:3: contact 0: W\[0\]\[0\] (its normal diagonal entry) is -2, not positive: W is not a Delassus operator" "$work/err" || fail "negative W: file, line or contact not named: $(cat "$work/err")"
+expect_code 1 "zero tangent of W" "$unjam" solve "$work/zero-tangent.dat"
+grep -q "zero-tangent.dat:3: contact 0: W\[1\]\[1\] (its tangential diagonal entry) is 0" "$work/err" || fail "zero tangent of W: not named: $(cat "$work/err")"
+expect_code 1 "negative W in compare" "$unjam" compare "$work/negative-w.dat" --backends nsgs --tols 1e-8
+grep -q "negative-w.dat:3: contact 0" "$work/err" || fail "compare: ill-posed W not named: $(cat "$work/err")"
 expect_code 1 "missing problem file" "$unjam" solve "$work/does-not-exist.dat"
 expect_code 1 "unwritable impulses" "$unjam" solve "$problems/one-contact-stick.dat" -o "$work/no/such/dir/r.txt"
 expect_code 1 "unwritable export" "$unjam" solve "$problems/one-contact-stick.dat" --export-problem "$work/no/such/dir/p.dat"

@@ -68,7 +68,12 @@ DelassusProblem RandomProblem(int nc, unsigned seed) {
   std::uniform_int_distribution<int> pick(0, 2 * nc - 1);
   std::vector<Eigen::Triplet<double>> t;
   for (int i = 0; i < 2 * nc; ++i) t.emplace_back(i, i, 1.0 + std::abs(u(rng)));
-  for (int e = 0; e < 3 * nc; ++e) t.emplace_back(pick(rng), pick(rng), u(rng) * std::pow(10.0, 40.0 * u(rng)));
+  // Off the diagonal only: the reader refuses a W whose diagonal is not positive.
+  for (int e = 0; e < 3 * nc; ++e) {
+    const int row = pick(rng), col = pick(rng);
+    const double value = u(rng) * std::pow(10.0, 40.0 * u(rng));
+    if (row != col) t.emplace_back(row, col, value);
+  }
   t.emplace_back(0, 2 * nc - 1, 0.1);
   t.emplace_back(2 * nc - 1, 0, 4.9406564584124654e-324);  // the smallest subnormal
   DelassusProblem p;
@@ -113,7 +118,13 @@ TEST(SiconosWrite, SparseBlockLayoutHasEveryDiagonalBlockAndOnlyStoredOthers) {
             "4\n3\n3\n2 4 6\n2 4 6\n4\n4\n0 2 3 4\n0 2 1 2\n"
             "0\n2 0 0 0\n1\n0 0 0 -0.5\n2\n0 0 0 0\n3\n3 0 0 0\n"
             "-1 -1 -1 -1 -1 -1\n0.25 0.25 0.25\n");
-  ExpectSameBits(p, ParseSiconosProblem(text, "layout.dat"));
+  // Such a W (zero diagonal entries) is no Delassus operator: the reader refuses it.
+  try {
+    ParseSiconosProblem(text, "layout.dat");
+    ADD_FAILURE() << "a W with zero diagonal entries was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.message().find("contact 0: W[1][1] (its tangential diagonal entry) is 0"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SiconosWrite, HeldContactIsRefusedAndNoFileIsLeft) {
@@ -189,6 +200,14 @@ std::vector<BadCase> BadCases() {
       {"triplet entry without a value", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n    0 0 :\n", 9, "I J : VALUE"},
       {"triplet NaN value", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n    0 0 : nan\n", 9, "NaN"},
       {"truncated sparse section", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n", 8, "truncated"},
+      // Not a Delassus operator (H M^-1 H^T has a positive diagonal): named at W's first line.
+      {"negative diagonal of W", "2\n1\n0\n2\n2\n2 2\n-2 0\n0 -4\n-1 0.4\n1\n", 3,
+       "contact 0: W[0][0] (its normal diagonal entry) is -2, not positive: W is not a Delassus operator"},
+      {"W of no blocks (zero)", "2\n1\n1\n2\n2\n0\n-1 0.4\n1\n", 3, "contact 0: W[0][0] (its normal diagonal entry) is 0"},
+      {"zero tangential diagonal of contact 1", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 1\n0\n2 0 0 3\n1\n2 0 0 0\n" + kTail, 3,
+       "contact 1: W[3][3] (its tangential diagonal entry) is 0"},
+      {"diagonal summed to zero (triplet)", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 3 nnz: 3\n    0 0 : 1\n    1 1 : 1\n    0 0 : -1\n-1 0\n1\n", 3,
+       "contact 0: W[0][0]"},
   };
 }
 
