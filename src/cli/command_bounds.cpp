@@ -10,6 +10,7 @@
 
 #include "bounds_records.hpp"
 #include "mpi_session.hpp"
+#include "output_paths.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
@@ -304,6 +305,7 @@ void PrintBoundsSummary(const nlohmann::json& j, double gap_tolerance, const cha
 }  // namespace
 
 int RunBounds(const BoundsFlags& f) {
+  RefuseOutputOverInput("-o", f.output, {f.file});
   if (f.Shifts()) return RunShiftBounds(f);
   const auto start = Clock::now();
   const LpBackend lp = LpBackendFromString(f.lp);

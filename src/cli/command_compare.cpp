@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "output_paths.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/siconos_problem.hpp"
 #include "unjam/protocols/perturbation.hpp"
@@ -70,6 +71,8 @@ std::string Csv(const std::vector<ComparisonRun>& runs) {
 }  // namespace
 
 int RunCompare(const CompareFlags& f) {
+  RefuseOutputDirectoryOverInput("-o", f.output_dir, {"compare.csv", "summary.json", "work-precision.png", "profiles.png"},
+                                 {f.files.begin(), f.files.end()});
   ComparisonOptions o;
   o.backends = f.backends.empty() ? AvailableBackends() : f.backends;
   o.tolerances = f.tolerances;

@@ -1,11 +1,13 @@
 // `unjam pack`: make a static packing and save it with its contact forces.
 #include "command_pack.hpp"
+#include "output_paths.hpp"
 #include "pack_checkpoint.hpp"
 
 #include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 
 #include "unjam/analysis/equilibrium.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -221,6 +223,11 @@ int PackFlags::Threads() const { return ThreadsFromOption(threads); }
 
 int RunPack(const PackFlags& f) {
   const auto start = std::chrono::steady_clock::now();
+  const std::string checkpoint_path = f.checkpoint.empty() ? f.output + ".checkpoint" : f.checkpoint;
+  // The checkpoint is removed once the packing is written: in one file, the packing would go with it.
+  if (SameFile(checkpoint_path, f.output)) {
+    throw std::invalid_argument("--checkpoint " + checkpoint_path + " is the output file (-o), which would be removed with the checkpoint: choose another --checkpoint");
+  }
   const nlohmann::json parameters = f.Parameters();
   StepOptions step;
   step.dt = TimeStep(f);
@@ -263,7 +270,6 @@ int RunPack(const PackFlags& f) {
     };
   }
 
-  const std::string checkpoint_path = f.checkpoint.empty() ? f.output + ".checkpoint" : f.checkpoint;
   PackCheckpointer checkpointer(checkpoint_path, parameters, f.checkpoint_every > 0);
   const RelaxReport resume = checkpointer.Resume(sim);
   relax.checkpoint_interval = f.checkpoint_every;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mpi_session.hpp"
+#include "output_paths.hpp"
 #include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/io/json_lines.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -182,6 +183,11 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
 }
 
 constexpr const char* kOtherRun = "remove it or choose another --output directory";
+
+// Every file a run writes in its output directory (the rank files of an mpirun aside).
+const std::vector<std::string> kOutputFiles = {"records.jsonl", "perturbations.csv", "profile.csv", "fcrit_histogram.csv",
+                                               "field.csv", "stress.csv", "summary.json", "displacement.csv",
+                                               "response.vtk", "response.xyz"};
 
 // The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
 // MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
@@ -406,6 +412,7 @@ int ReportUnusable(const EnsembleSummary& summary, bool lemke_left_for_size, boo
 
 int RunPerturb(const PerturbFlags& f) {
   const auto start = Clock::now();
+  RefuseOutputDirectoryOverInput("-o", f.output_dir, kOutputFiles, {f.file});
   if (f.time_limit && !(std::isfinite(*f.time_limit) && *f.time_limit >= 0.0)) {
     throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " + Format("%g", *f.time_limit));
   }

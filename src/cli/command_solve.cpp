@@ -3,7 +3,9 @@
 #include "command_solve.hpp"
 
 #include <cstdio>
+#include <stdexcept>
 
+#include "output_paths.hpp"
 #include "unjam/analysis/equilibrium.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/siconos_problem.hpp"
@@ -11,6 +13,16 @@
 namespace unjam::cli {
 
 namespace {
+
+// Before any work: neither output may be the input, nor the two outputs one file (the
+// second written would replace the first).
+void RefuseOverwrites(const SolveFlags& flags) {
+  RefuseOutputOverInput("-o", flags.output, {flags.file});
+  RefuseOutputOverInput("--export-problem", flags.export_problem, {flags.file});
+  if (!flags.output.empty() && !flags.export_problem.empty() && SameFile(flags.output, flags.export_problem)) {
+    throw std::invalid_argument("-o and --export-problem name one file, " + flags.output + ": choose two");
+  }
+}
 
 void PrintTable(const Scene& scene, const StaticSolution& s, const Coordination& z) {
   const SolveReport& r = s.report;
@@ -48,6 +60,7 @@ void SolveFlags::Register(CLI::App& app) {
 }
 
 int RunSolve(const SolveFlags& flags) {
+  RefuseOverwrites(flags);
   if (IsSiconosFile(flags.file)) return RunSolveStored(flags);
   const std::string& path = flags.file;
   const bool json = flags.json;
