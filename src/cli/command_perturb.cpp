@@ -356,18 +356,33 @@ void PrintSummary(const nlohmann::json& j) {
   std::printf("seconds            %.3f\n", j["seconds"].get<double>());
 }
 
-// The targets not yet recorded, with their indices in the selection. Under mpirun rank r
-// owns the targets k = r mod ranks, by the selection alone, so that the ranks need not
-// agree on what is recorded (each reads the others' files while they are written).
+// The full fields of perturbation 0 (WriteFullField), written before its record: a record
+// without them (a run stopped or failed in between, before they came first; or files
+// removed since) leaves them to the next run.
+const std::vector<std::string> kFullFieldFiles = {"displacement.csv", "response.vtk", "response.xyz"};
+
+bool FullFieldMissing(const std::filesystem::path& dir) {
+  for (const std::string& name : kFullFieldFiles) {
+    if (!std::filesystem::exists(dir / name)) return true;
+  }
+  return false;
+}
+
+// The targets not yet recorded, with their indices in the selection, and perturbation 0
+// again where only its fields are missing (`refill_first`). Under mpirun rank r owns the
+// targets k = r mod ranks, by the selection alone, so that the ranks need not agree on what
+// is recorded (each reads the others' files while they are written).
 struct PendingTargets {
   std::vector<PerturbationTarget> targets;
   std::vector<int> index;
 };
 
-PendingTargets Pending(const Selection& selection, const std::map<int, ReducedResponse>& records, int rank, int ranks) {
+PendingTargets Pending(const Selection& selection, const std::map<int, ReducedResponse>& records, bool refill_first,
+                       int rank, int ranks) {
   PendingTargets pending;
   for (int k = 0; k < static_cast<int>(selection.targets.size()); ++k) {
-    if (records.count(k) || k % ranks != rank) continue;
+    const bool done = records.count(k) > 0 && !(k == 0 && refill_first);
+    if (done || k % ranks != rank) continue;
     pending.targets.push_back(selection.targets[k]);
     pending.index.push_back(k);
   }
@@ -445,8 +460,12 @@ int RunPerturb(const PerturbFlags& f) {
     records = Resume(dir, header, own);
     log = AppendTo(own, header);
   }
-  const PendingTargets pending = Pending(selection, records, rank, ranks);
+  const bool refill_first = log.is_open() && records.count(0) > 0 && FullFieldMissing(dir);
+  const PendingTargets pending = Pending(selection, records, refill_first, rank, ranks);
   if (!f.quiet && !records.empty()) std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(), selection.targets.size());
+  if (!f.quiet && refill_first && rank == 0) {
+    std::fprintf(stderr, "perturb: perturbation 0 is recorded without its fields (displacement.csv, response.vtk, response.xyz): solving it again for them\n");
+  }
   PerturbSchedule schedule;
   schedule.threads = ThreadsFromOption(f.threads);
   schedule.as_finished = true;  // each record written as soon as it exists
@@ -454,12 +473,15 @@ int RunPerturb(const PerturbFlags& f) {
   const int total = static_cast<int>(selection.targets.size());
   PerturbAll(base, pending.targets, options, schedule, [&](int t, const PerturbationResult& r) {
     const int k = pending.index[t];
+    // The fields first, each file atomically: once perturbation 0 is recorded, a rerun
+    // solves it again only if they are missing.
+    if (log.is_open() && k == 0) WriteFullField(dir, base, r);
+    if (records.count(k) > 0) return;  // solved again for its fields alone
     ReducedResponse record = Reduce(base, r, layout, ensemble);
     if (log.is_open()) {
       nlohmann::json line = ToJson(record);
       line["index"] = k;
       log << line.dump() << '\n' << std::flush;
-      if (k == 0) WriteFullField(dir, base, r);
     }
     if (!f.quiet) PrintProgress(r, static_cast<int>(records.size()) + 1, total, rank, ranks);
     records.emplace(k, std::move(record));

@@ -31,6 +31,32 @@ printf '{"index": 1, "torn' >>"$work/out/records.jsonl"
 grep -q "resuming, 1 of 2 done" "$work/resume.err" || fail "the rerun did not resume: $(cat "$work/resume.err")"
 cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/out/perturbations.csv") || fail "resumed results differ"
 
+# The first perturbation's fields come before its record. A run that cannot write them (here
+# response.vtk is a directory, as a full disk would fail it) fails without recording it, so
+# the rerun solves it again and writes them; a record whose fields are missing (a run killed
+# between the two before they came first, or files removed) is solved again for them.
+mkdir -p "$work/fields/response.vtk"
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/fields" >/dev/null 2>"$work/fields.err"; code=$?
+[ "$code" -eq 1 ] && grep -q "response.vtk" "$work/fields.err" || fail "unwritable fields: exit $code, expected 1 naming the file: $(cat "$work/fields.err")"
+/usr/bin/python3 - "$work/fields/records.jsonl" <<'PY' || fail "unwritable fields: perturbation 0 was recorded without them"
+import json, sys
+indices = [json.loads(line)["index"] for line in open(sys.argv[1]).read().splitlines()[1:]]
+assert 0 not in indices, indices
+PY
+rmdir "$work/fields/response.vtk"
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/fields" >/dev/null 2>"$work/fields.err" || fail "rerun after unwritable fields: exit $?"
+for f in displacement.csv response.vtk response.xyz; do
+  cmp -s "$work/out/$f" "$work/fields/$f" || fail "rerun after unwritable fields: $f missing or not that of an uninterrupted run"
+done
+rm -f "$work/fields/response.xyz" "$work/fields/displacement.csv"
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/fields" >/dev/null 2>"$work/fields.err" || fail "rerun with fields missing: exit $?"
+grep -q "perturbation 0 is recorded without its fields" "$work/fields.err" || fail "fields missing: not said: $(cat "$work/fields.err")"
+for f in displacement.csv response.vtk response.xyz; do
+  cmp -s "$work/out/$f" "$work/fields/$f" || fail "rerun with fields missing: $f missing or not that of an uninterrupted run"
+done
+[ "$(wc -l <"$work/fields/records.jsonl")" -eq 3 ] || fail "rerun with fields missing: records.jsonl should hold the header and 2 records"
+cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/fields/perturbations.csv") || fail "rerun with fields missing: other rows"
+
 # A budget (--time-limit): a spent one starts nothing and reports the records so far as an
 # incomplete ensemble; the same command without it finishes the run with the same numbers.
 head -n 2 "$work/out/records.jsonl" >"$work/cut" && mv "$work/cut" "$work/out/records.jsonl"
