@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <set>
+#include <tuple>
 
 #include "unjam/scene/scene.hpp"
 
@@ -74,6 +76,9 @@ inline void AddRandomEffectsAndForces(Scene& scene, bool walls, std::mt19937_64&
     const int i = static_cast<int>(rng() % n);
     scene.effects.prescribed_gaps.push_back({i, (i + 1) % n, {image_x, image_y}, AnyFiniteDouble(rng)});
   }
+  // One force line per contact ((i, j, m) and (j, i, -m) are one), none pulling: the reader
+  // refuses a second line and a negative normal force.
+  std::set<std::tuple<int, int, int, int>> contacts;
   const int forces = n >= 2 ? static_cast<int>(rng() % 8) : 0;
   for (int k = 0; k < forces; ++k) {
     const int i = static_cast<int>(rng() % n);
@@ -82,9 +87,11 @@ inline void AddRandomEffectsAndForces(Scene& scene, bool walls, std::mt19937_64&
     const bool wall = walls && rng() % 3 == 0;
     f.j = wall ? WallIndexToJ(static_cast<int>(rng() % scene.cell.walls.size())) : (i + 1) % n;
     f.image = wall ? std::array<int, 2>{0, 0} : std::array<int, 2>{image_x, 0};
-    f.normal = AnyFiniteDouble(rng);
+    f.normal = std::abs(AnyFiniteDouble(rng));
     f.tangential = AnyFiniteDouble(rng);
-    scene.forces.push_back(f);
+    const bool first = wall || f.i < f.j;
+    const auto key = first ? std::make_tuple(f.i, f.j, f.image[0], f.image[1]) : std::make_tuple(f.j, f.i, -f.image[0], -f.image[1]);
+    if (contacts.insert(key).second) scene.forces.push_back(f);
   }
 }
 
