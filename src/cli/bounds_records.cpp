@@ -50,6 +50,9 @@ void BoundsRecords::Merge() {
 
 void BoundsRecords::Remove() {
   log_.close();
+  // Rank files this run took back (an mpirun stopped before its merge, or one refused by
+  // another run's lock while a rank had solved its share) go with the rest.
+  MergeRankFiles(base_, header_, kOtherRun);
   std::filesystem::remove(base_);
 }
 

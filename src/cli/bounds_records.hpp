@@ -36,7 +36,8 @@ class BoundsRecords {
   long long WrittenIterations() const { return written_iterations_; }
   // The bounds answered by a shortcut, not an LP, in this run (on every rank, after Merge).
   long long ShortcutsThisRun() const { return KnownShortcuts() + written_shortcuts_ - resumed_shortcuts_; }
-  // The run is written out: the records are no longer needed.
+  // The run is written out: the records, this rank's and any other rank files beside them,
+  // are no longer needed.
   void Remove();
 
  private:

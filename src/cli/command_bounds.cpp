@@ -12,6 +12,8 @@
 #include "mpi_session.hpp"
 #include "output_paths.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
+#include "unjam/io/json_lines.hpp"
+#include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
 
@@ -324,8 +326,13 @@ int RunBounds(const BoundsFlags& f) {
   if (ranks > 1 && f.output.empty()) throw std::invalid_argument("under mpirun, -o FILE is needed: the ranks share their records beside it");
   bo.shares = ranks;
   bo.share = rank;
+  // One run per output (docs/cli.md, "One run per output"): FILE.lock for rank 0, or a run
+  // without MPI, held until the CSV is written; FILE.rank<r>.lock for rank r > 0 of an
+  // mpirun, beside the records file it alone writes.
+  std::optional<OutputLock> lock;
   std::optional<BoundsRecords> records;
   if (!f.output.empty()) {
+    lock.emplace(RankPath(f.output + ".lock", rank), f.output);
     records.emplace(f, system, selected.size(), bo, rank);
     bo.known = records->Known();
     if (!bo.known.empty() && rank == 0 && !f.quiet) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());

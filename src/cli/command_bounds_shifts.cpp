@@ -11,6 +11,7 @@
 #include "command_bounds.hpp"
 #include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/indeterminacy/shift_bounds.hpp"
+#include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
 
@@ -153,6 +154,8 @@ int RunShiftBounds(const BoundsFlags& f) {
   const auto start = Clock::now();
   if (LpBackendFromString(f.lp) != LpBackend::kClp) throw std::invalid_argument("--lp: shift bounds (--top, --bottom, --shift-down, --shift-up) use clp only");
   const EquilibriumSystemOptions so = f.SystemOptions();
+  std::optional<OutputLock> lock;  // one run per output, as for contacts
+  if (!f.output.empty()) lock.emplace(f.output + ".lock", f.output);
   const Scene scene = ReadPacking(f.file);
   if (scene.forces.empty()) {
     throw InputError(f.file, 0, "stores no static forces, from which the shifts are chosen: run `unjam solve " + f.file + " -o FILE` first");

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "unjam/analysis/equilibrium.hpp"
+#include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/gravity_pile.hpp"
 #include "unjam/protocols/pressure_packing.hpp"
@@ -270,6 +271,9 @@ int RunPack(const PackFlags& f) {
     };
   }
 
+  // One run per checkpoint (docs/cli.md, "One run per output"): two runs resuming from one
+  // would overwrite each other's state.
+  const OutputLock lock(checkpoint_path + ".lock", checkpoint_path);
   PackCheckpointer checkpointer(checkpoint_path, parameters, f.checkpoint_every > 0);
   const RelaxReport resume = checkpointer.Resume(sim);
   relax.checkpoint_interval = f.checkpoint_every;

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "output_paths.hpp"
 #include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/io/json_lines.hpp"
+#include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/particle_export.hpp"
 #include "unjam/io/response_records.hpp"
@@ -187,7 +189,12 @@ constexpr const char* kOtherRun = "remove it or choose another --output director
 // Every file a run writes in its output directory (the rank files of an mpirun aside).
 const std::vector<std::string> kOutputFiles = {"records.jsonl", "perturbations.csv", "profile.csv", "fcrit_histogram.csv",
                                                "field.csv", "stress.csv", "summary.json", "displacement.csv",
-                                               "response.vtk", "response.xyz"};
+                                               "response.vtk", "response.xyz", ".lock"};
+
+// One run per directory (docs/cli.md, "One run per output"): rank 0, or a run without MPI,
+// locks DIR/.lock for the whole run; rank r > 0 of an mpirun locks DIR/.lock.rank<r>, beside
+// the records file it alone writes, so that the ranks of one mpirun do not refuse each other.
+std::filesystem::path LockPath(const std::filesystem::path& dir, int rank) { return RankPath(dir / ".lock", rank); }
 
 // The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
 // MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
@@ -454,8 +461,10 @@ int RunPerturb(const PerturbFlags& f) {
   const nlohmann::json header = Header(f, selection, options, base);
   std::map<int, ReducedResponse> records;
   std::ofstream log;
+  std::optional<OutputLock> lock;  // held until every output is written
   if (!f.output_dir.empty()) {
     std::filesystem::create_directories(dir);
+    lock.emplace(LockPath(dir, rank), dir.string());
     const std::filesystem::path own = RecordsPath(dir, rank);
     records = Resume(dir, header, own);
     log = AppendTo(own, header);

@@ -163,4 +163,17 @@ check 2 "--lp simplex" "$work/g5.unjam" --lp simplex
 check 2 "--mode bogus" "$work/g5.unjam" --mode bogus
 check 1 "missing file" "$work/none.unjam"
 
+# One run per output: while another process holds FILE.lock, a run is refused (exit 1,
+# naming the lock) and writes neither FILE nor its records; once it is released, the run
+# goes, and removes its lock at the end. The shifts lock FILE too.
+hold_lock "$work/locked.csv.lock"
+"$unjam" bounds "$work/g5.unjam" --threads 1 -o "$work/locked.csv" >/dev/null 2>"$work/held.err"; code=$?
+"$unjam" bounds "$src/problems/gravity-n100-mu0.5.unjam" --top --threads 1 -o "$work/locked.csv" >/dev/null 2>"$work/held-top.err"; top_code=$?
+release_lock
+[ "$code" -eq 1 ] && grep -q "locked.csv is being written by another run .*locked.csv.lock" "$work/held.err" || fail "bounds on a locked output: exit $code, $(cat "$work/held.err")"
+[ "$top_code" -eq 1 ] && grep -q "locked.csv.lock" "$work/held-top.err" || fail "bounds --top on a locked output: exit $top_code, $(cat "$work/held-top.err")"
+ls "$work" | grep -q "^locked.csv$\|^locked.csv.records" && fail "bounds on a locked output wrote: $(ls "$work")"
+"$unjam" bounds "$work/g5.unjam" --threads 1 -o "$work/locked.csv" >/dev/null 2>&1 || fail "bounds once the lock is released: exit $?"
+[ -s "$work/locked.csv" ] && [ ! -e "$work/locked.csv.lock" ] || fail "bounds once the lock is released: $(ls "$work")"
+
 finish cli_bounds

@@ -36,6 +36,26 @@ grep -q '"complete":false' "$work/cut.json" || fail "mpirun --time-limit 0: not 
 cmp -s "$work/one.csv" "$work/cut.csv" || fail "resume of an mpirun: other bounds"
 ls "$work" | grep -q "cut.csv.records" && fail "resume of an mpirun: records left behind"
 
+# Each rank locks its own part (FILE.lock for rank 0, FILE.rank1.lock for rank 1) and
+# removes it at the end. A second run is refused by whichever rank's lock it meets: exit 1,
+# the refused rank writes nothing and the CSV stays; a rank that met no lock has solved its
+# share into its own records file, which the next run takes back.
+ls "$work" | grep -q "lock" && fail "mpirun: a lock file was left behind: $(ls "$work" | tr '\n' ' ')"
+cp "$work/one.csv" "$work/one.before"
+for held in one.csv.lock:one.csv.records.jsonl one.csv.rank1.lock:one.csv.records.rank1.jsonl; do
+  lock="${held%%:*}" own="${held##*:}"
+  before="$(cat "$work/$own" 2>/dev/null | md5sum)"
+  hold_lock "$work/$lock"
+  "${mpirun[@]}" "$unjam" bounds "$packing" --contacts "$contacts" --threads 1 -o "$work/one.csv" >/dev/null 2>"$work/held.err"; code=$?
+  release_lock
+  [ "$code" -eq 1 ] && grep -q "is being written by another run .*$lock" "$work/held.err" || fail "mpirun with $lock held: exit $code, $(head -c 300 "$work/held.err")"
+  [ "$before" = "$(cat "$work/$own" 2>/dev/null | md5sum)" ] || fail "mpirun with $lock held: the refused rank wrote $own"
+  cmp -s "$work/one.csv" "$work/one.before" || fail "mpirun with $lock held: the CSV changed"
+done
+"$unjam" bounds "$packing" --contacts "$contacts" --threads 2 -o "$work/one.csv" >/dev/null 2>&1 || fail "after the refused runs: exit $?"
+cmp -s "$work/one.csv" "$work/one.before" || fail "after the refused runs: other bounds"
+ls "$work" | grep -q "one.csv.records" && fail "after the refused runs: records left behind: $(ls "$work" | tr "\n" " ")"
+
 # Refused under mpirun: bounds without -o, and the shifts.
 "${mpirun[@]}" "$unjam" bounds "$packing" --contacts 1 >/dev/null 2>"$work/noout.err"; code=$?
 [ "$code" -ne 0 ] && grep -q "under mpirun, -o FILE is needed" "$work/noout.err" || fail "mpirun bounds without -o: exit $code, $(head -c 300 "$work/noout.err")"

@@ -179,4 +179,12 @@ PY
 [ "$code" -eq 2 ] || fail "--n 0: exit $code, expected 2"
 [ ! -e "$work/c.unjam" ] || fail "--n 0 left a file"
 
+# One run per checkpoint: while another process holds OUTPUT.checkpoint.lock, pack is
+# refused (exit 1, naming the lock) and writes nothing.
+hold_lock "$work/held.unjam.checkpoint.lock"
+"$unjam" pack --protocol gravity --n 4 --width 8 -o "$work/held.unjam" --quiet >/dev/null 2>"$work/held.err"; code=$?
+release_lock
+[ "$code" -eq 1 ] && grep -q "held.unjam.checkpoint is being written by another run .*held.unjam.checkpoint.lock" "$work/held.err" || fail "pack on a locked checkpoint: exit $code, $(cat "$work/held.err")"
+ls "$work" | grep -q "^held.unjam$\|^held.unjam.checkpoint$" && fail "pack on a locked checkpoint wrote: $(ls "$work")"
+
 finish cli_pack

@@ -57,6 +57,35 @@ done
 [ "$(wc -l <"$work/fields/records.jsonl")" -eq 3 ] || fail "rerun with fields missing: records.jsonl should hold the header and 2 records"
 cmp -s <(cut -d, -f1-24 "$work/before.csv") <(cut -d, -f1-24 "$work/fields/perturbations.csv") || fail "rerun with fields missing: other rows"
 
+# One run per output directory. While another process holds DIR/.lock, a run is refused:
+# exit 1, naming the lock, the records untouched. A run of unjam holds it (stopped here
+# mid-run): the second is refused naming that process; killed, it leaves the lock to the
+# kernel, and the next run resumes at once, each perturbation recorded once.
+cp "$work/fields/records.jsonl" "$work/fields.records"
+hold_lock "$work/fields/.lock"
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/fields" >/dev/null 2>"$work/held.err"; code=$?
+release_lock
+[ "$code" -eq 1 ] && grep -q "is being written by another run .*fields/.lock" "$work/held.err" || fail "a run on a locked directory: exit $code, $(cat "$work/held.err")"
+cmp -s "$work/fields/records.jsonl" "$work/fields.records" || fail "a run on a locked directory changed its records"
+"$unjam" perturb "$work/vg.unjam" --all --threads 1 -o "$work/fields" >/dev/null 2>&1 || fail "once the lock is released: exit $?"
+[ ! -e "$work/fields/.lock" ] || fail "a finished run left its lock file"
+def="$src/problems/pressure-n500-mu0.5.unjam"
+"$unjam" perturb "$def" --sample 3 --threads 1 -o "$work/killed" >/dev/null 2>&1 &
+first=$!
+for _ in $(seq 200); do [ -s "$work/killed/records.jsonl" ] && break; sleep 0.05; done  # its lock comes before
+kill -STOP "$first"
+"$unjam" perturb "$def" --sample 3 --threads 1 -o "$work/killed" >/dev/null 2>"$work/second.err"; code=$?
+[ "$code" -eq 1 ] && grep -q "is being written by another run (process $first on " "$work/second.err" || fail "two runs at once: exit $code, $(cat "$work/second.err")"
+kill -KILL "$first"
+wait "$first" 2>/dev/null
+"$unjam" perturb "$def" --sample 3 --threads 1 -o "$work/killed" >/dev/null 2>"$work/resumed.err" || fail "after a killed run: exit $?, $(cat "$work/resumed.err")"
+/usr/bin/python3 - "$work/killed/records.jsonl" "$work/killed/perturbations.csv" <<'PY' || fail "after a killed run: records"
+import csv, json, sys
+indices = [json.loads(line)["index"] for line in open(sys.argv[1]).read().splitlines()[1:]]
+assert sorted(indices) == [0, 1, 2], indices
+assert len(list(csv.DictReader(open(sys.argv[2])))) == 3
+PY
+
 # A budget (--time-limit): a spent one starts nothing and reports the records so far as an
 # incomplete ensemble; the same command without it finishes the run with the same numbers.
 head -n 2 "$work/out/records.jsonl" >"$work/cut" && mv "$work/cut" "$work/out/records.jsonl"

@@ -20,6 +20,19 @@ done
 [ "$(wc -l <"$work/two/records.jsonl")" -eq 11 ] || fail "mpirun: records.jsonl should hold the header and 10 records"
 ls "$work/two" | grep -q "records.rank" && fail "mpirun: a rank's records file was left behind"
 
+# The ranks of one mpirun share -o (above: each locks its own part, DIR/.lock for rank 0,
+# DIR/.lock.rank1 for rank 1, and removes it at the end); a second run is refused by
+# whichever rank's lock it meets: exit 1, the records untouched.
+ls -A "$work/two" | grep -q "lock" && fail "mpirun: a lock file was left behind: $(ls -A "$work/two" | tr '\n' ' ')"
+cp "$work/two/records.jsonl" "$work/two.records"
+for held in .lock .lock.rank1; do
+  hold_lock "$work/two/$held"
+  "${mpirun[@]}" "$unjam" perturb "$pile" --top --threads 1 -o "$work/two" >/dev/null 2>"$work/held.err"; code=$?
+  release_lock
+  [ "$code" -eq 1 ] && grep -q "is being written by another run .*two/$held" "$work/held.err" || fail "mpirun with $held held: exit $code, $(head -c 300 "$work/held.err")"
+  cmp -s "$work/two/records.jsonl" "$work/two.records" || fail "mpirun with $held held: the records changed"
+done
+
 # An mpirun stopped before its merge leaves a file per rank (rank 1's with a torn last line):
 # a run on one process resumes from both and merges them.
 mkdir "$work/cut"
