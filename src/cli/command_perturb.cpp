@@ -63,7 +63,8 @@ void PerturbFlags::Register(CLI::App& a) {
   solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;
   solver.Register(a);
-  a.get_option("--backend")->description("contact solver backend; auto: lemke on frictional packings of up to " + std::to_string(kLemkeAutoContacts) +
+  a.get_option("--backend")->description("contact solver backend; auto: the rate solve (the quasi-rigid loading path over the self-stresses, then the step solved exactly on its contact states; docs/perturbations.md), and where it gives no definite answer the whole step by lemke on frictional packings of up to " +
+                                         std::to_string(kLemkeAutoContacts) +
                                          " force-carrying contacts or when a lemke option is given (newton above, and at fixed volume), newton on frictionless ones");
   a.add_option("--fallback", fallback, "backend that solves a step again when the first leaves it unresolved; auto: ipopt when --backend auto picks lemke, lemke when it picks newton on a frictionless packing at fixed pressure, else none")
       ->check(CLI::IsMember({"auto", "none", "nsgs", "newton", "ipopt", "nlopt", "lemke"}))
@@ -177,7 +178,7 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   header["inertia_ratio_terms"] = "grains, spins, cell";
   // Only for a backend whose answers have changed, for the same reason.
   for (const std::string& name : {o.backend, o.fallback}) {
-    if (name == "none") continue;
+    if (name == "none" || name == "rate") continue;
     const int revision = MakeSolver(name)->AnswerRevision();
     if (revision > 1) header["revision_" + name] = revision;
   }

@@ -18,8 +18,14 @@
 #include "unjam/problem/inertia_bound.hpp"
 #include "unjam/problem/kinematic_admissibility.hpp"
 #include "unjam/protocols/static_solve.hpp"
+#include "perturbation_rate.hpp"
 
 namespace unjam {
+
+struct RateBaseSlot {
+  std::once_flag once;
+  RateBase rate;
+};
 
 // The shared inertia LP of a base's contact openings (PerturbationBase::opening_inertia_lp).
 struct OpeningInertiaLp {
@@ -50,14 +56,21 @@ bool FixedVolumeCell(const PerturbationOptions& options, const Scene& scene) {
 }
 }  // namespace
 
-std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene) {
+std::string PerturbationBackend(const PerturbationOptions& options, const Scene&) {
   if (options.backend != "auto") return options.backend;
+  return LemkeOptionsGiven(options) ? "lemke" : "rate";
+}
+
+std::string StepBackend(const PerturbationOptions& options, const Scene& scene) {
+  if (options.backend != "auto" && options.backend != "rate") return options.backend;
   // At fixed volume the stress level of rigid grains in a frozen cell is itself free (any
   // multiple of a self-stress balances), and Lemke's path from zero impulses ends on the
   // unloaded solution (F_crit ≈ 0, docs/perturbations.md); newton's proximal steps stay
   // nearest the static forces.
   if (!scene.effects.Frictional() || FixedVolumeCell(options, scene)) return "newton";
-  return AutoLeavesLemkeForSize(options, scene) ? "newton" : "lemke";
+  PerturbationOptions automatic = options;
+  automatic.backend = "auto";
+  return AutoLeavesLemkeForSize(automatic, scene) ? "newton" : "lemke";
 }
 
 bool AutoLeavesLemkeForSize(const PerturbationOptions& options, const Scene& scene) {
@@ -76,7 +89,7 @@ std::string PerturbationFallback(const PerturbationOptions& options, const Scene
   if (options.fallback == "none") return "";
   if (options.fallback != "auto") return options.fallback == PerturbationBackend(options, scene) ? "" : options.fallback;
   if (options.backend != "auto") return "";
-  if (PerturbationBackend(options, scene) == "lemke") return "ipopt";
+  if (StepBackend(options, scene) == "lemke") return "ipopt";
   // Frictional steps that `auto` gives to newton have no fallback: at fixed volume lemke
   // ends on the unloaded solution, and on large packings its paths run out of pivots
   // after minutes, as ipopt's fixed point stalls (1e-3 on N = 3000 openings).
@@ -332,6 +345,7 @@ PerturbationBase PreparePerturbations(const Scene& static_scene, const Perturbat
   }
   base.mean_mass = free_particles > 0 ? base.mean_mass / free_particles : 1.0;
   if (options.dynamic_precheck) base.opening_inertia_lp = std::make_shared<OpeningInertiaLp>();
+  base.rate = std::make_shared<RateBaseSlot>();
   return base;
 }
 
@@ -353,7 +367,7 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.dt = options.dt;
   solve.closed_gap_tolerance = options.closed_gap_tolerance;
   solve.margin = DetectionMargin(options);
-  solve.backend = PerturbationBackend(options, base.scene);
+  solve.backend = StepBackend(options, base.scene);
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);
   solve.solver.lemke_velocity_scale = options.gap / options.dt;
@@ -540,6 +554,113 @@ StaticSolution SolveAndMeasure(const PerturbationBase& base, const Scene& pertur
   return s2;
 }
 
+const RateBase& RateBaseOf(const PerturbationBase& base, const PerturbationOptions& options) {
+  RateBaseSlot& slot = *base.rate;
+  std::call_once(slot.once, [&] { slot.rate = PrepareRateBase(base, StepOptions(base, options)); });
+  return slot.rate;
+}
+
+std::string PathAccount(const RatePathResult& path) {
+  char text[200];
+  std::snprintf(text, sizeof text, "rate path: %s after %d events, %d turns%s%s", ToString(path.end), path.events, path.turns,
+                path.message.empty() ? "" : ", ", path.message.c_str());
+  return text;
+}
+
+// The perturbation solved as the rigid limit of stiff contacts (perturbation_rate.hpp):
+// its answer, or none where the path gives no definite one (`account` then says why, and
+// the step is solved by a backend).
+void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled, PerturbationResult& r);
+
+std::string FormatResidual(double residual) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", residual);
+  return text;
+}
+
+// The step's solution on the path's final contact states, measured into r.
+void MeasureOnPattern(const PerturbationBase& base, const RateBase& rb, const RateTarget& rt, const RatePathResult& path,
+                      const PerturbationOptions& options, const StaticSolveOptions& solve, const Scene& perturbed,
+                      const StaticProblem& posed, const std::string& account, PerturbationResult& r) {
+  SolveResult step = StepOnPattern(rb, rt, path, posed);
+  step.report.iterations = path.events;
+  step.report.message = account + "; the step on its pattern: residual " + FormatResidual(step.report.residual);
+  const Eigen::VectorXd impulses = step.impulses;
+  StaticSolution s = SolutionOf(perturbed, posed, step, options.dt);
+  Measure(base, options, solve, s, r);
+  const int closing = ContactClosedAt(posed, impulses, kLinearityGapFactor);
+  if (r.status == "ok" && closing >= 0) {
+    const Contact& c = posed.contacts[static_cast<std::size_t>(posed.assembled.source_contact[static_cast<std::size_t>(closing)])];
+    r.linear = false;
+    r.status = "nonlinear";
+    r.solve.message += "; at 10 xi the response closes the open contact (" + std::to_string(c.i) + ", " + std::to_string(c.j) + ")";
+  }
+}
+
+// The small-gap check of a rate answer: the step at 10ξ solved on the same contact states.
+// Where that is no solution of the step (its residual above the tolerance), the response
+// at 10ξ is not 10 times this one: nonlinear.
+void CheckLinearityOnPattern(const PerturbationBase& base, const PerturbationTarget& target, const RateBase& rb,
+                             const RateTarget& rt, const RatePathResult& path, const PerturbationOptions& options,
+                             PerturbationResult& r) {
+  PerturbationOptions scaled = options;
+  scaled.gap *= kLinearityGapFactor;
+  scaled.max_inertia_ratio *= kLinearityGapFactor;  // a linear response's inertia grows with ξ
+  const StaticSolveOptions solve = StepOptions(base, scaled);
+  const Scene perturbed = PerturbedScene(base, target, scaled);
+  const StaticProblem posed = PoseStaticProblem(perturbed, solve);
+  PerturbationResult check;
+  check.target = target;
+  SetOriginAndReference(base, target, check);
+  MeasureOnPattern(base, rb, rt, path, scaled, solve, perturbed, posed, "", check);
+  r.solve.message += "; 10 xi check: residual " + FormatResidual(check.solve.residual);
+  if (!check.resolved) {
+    r.linear = false;
+    r.status = "nonlinear";
+    r.solve.message += ", not a solution of the step at 10 xi";
+    return;
+  }
+  JudgeLinearity(base, check, r);
+}
+
+std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base, const PerturbationTarget& target,
+                                                const PerturbationOptions& options, const StaticSolveOptions& solve,
+                                                const Scene& perturbed, const StaticProblem& posed, PerturbationResult r,
+                                                Clock::time_point start, std::string& account) {
+  if (base.rate == nullptr) return std::nullopt;
+  const RateBase& rb = RateBaseOf(base, options);
+  const RateTarget rt = PoseRateTarget(rb, target, options);
+  if (!rt.refused.empty()) {
+    account = "rate path: " + rt.refused;
+    return std::nullopt;
+  }
+  if (!rt.problem.released_rows.empty()) {
+    // Released forces (the held contact's friction): is there still a static network?
+    const RateStaticLp lp = SolveRateStaticLp(rt.problem);
+    if (lp.decided && !lp.feasible) {
+      PerturbationResult d = std::move(r);
+      d.solve.status = SolveStatus::kConverged;
+      d.solve.iterations = lp.iterations;
+      d.resolved = true;
+      d.status = "dynamic";
+      return DecidedWithoutSolving(base, "static LP", "no static network holds the packing with the perturbation's forces released (" +
+                                                          lp.message + "): dynamic, not solved",
+                                   std::move(d), start);
+    }
+  }
+  const RatePathResult path = FollowRatePath(rt.problem);
+  account = PathAccount(path);
+  if (path.end != RatePathEnd::kCollapse) return std::nullopt;
+  MeasureOnPattern(base, rb, rt, path, options, solve, perturbed, posed, account, r);
+  if (!r.resolved) {  // the path's pattern is no solution of the step: the step solver decides
+    account += "; its pattern is no solution of the step (residual " + FormatResidual(r.solve.residual) + ")";
+    return std::nullopt;
+  }
+  if (r.status == "ok" && options.check_linearity) CheckLinearityOnPattern(base, target, rb, rt, path, options, r);
+  r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return r;
+}
+
 // The whole measurement at one gap; `continued`: the answer at another gap, whose basis
 // the solve tries first (check_by_continuation; the warm start stays the static forces,
 // from which newton resolves a frictionless response further than from that answer);
@@ -577,7 +698,14 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
   if (options.dynamic_precheck && target.kind == PerturbationTarget::Kind::kContactOpening) {
     if (auto dynamic = DynamicBeforeSolving(base, posed, options, r, start)) return std::move(*dynamic);
   }
+  std::string rate_account;
+  if (PerturbationBackend(options, base.scene) == "rate" && continued == nullptr) {
+    if (auto answered = PerturbByRate(base, target, options, solve, perturbed, posed, r, start, rate_account)) {
+      return std::move(*answered);
+    }
+  }
   StaticSolution s = SolveAndMeasure(base, perturbed, std::move(posed), solve, options, r);
+  if (!rate_account.empty()) r.solve.message = rate_account + "; then " + r.solve.backend + ": " + r.solve.message;
   if (answer != nullptr) *answer = std::move(s);
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
@@ -598,7 +726,8 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   const auto start = Clock::now();
   StaticSolution answer;
   PerturbationResult r = PerturbOnce(base, target, options, nullptr, &answer);
-  if (!options.check_linearity || !r.ok()) return r;
+  // A rate answer is linear in ξ by construction, but for the gaps it closes (checked).
+  if (!options.check_linearity || !r.ok() || r.solve.backend == "rate") return r;
   PerturbationOptions scaled = options;
   scaled.gap *= kLinearityGapFactor;
   // A linear response's inertia grows with the gap, so at 10ξ it is judged against a

@@ -103,14 +103,17 @@ StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options
 }
 
 StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const StaticSolveOptions& options) {
+  SolveResult result = MakeSolver(options.backend)->Solve(posed.assembled.problem, options.solver);
+  if (options.nearest_member) SelectNearestMember(posed.assembled.problem, options, result);
+  return SolutionOf(scene, std::move(posed), result, options.dt);
+}
+
+StaticSolution SolutionOf(const Scene& scene, StaticProblem posed, const SolveResult& result, double dt) {
   const Scene rest = AtRest(scene);
   StaticSolution out;
   out.contacts = std::move(posed.contacts);
   const AssembledProblem& assembled = posed.assembled;
   const ContactProblem& p = assembled.problem;
-
-  SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver);
-  if (options.nearest_member) SelectNearestMember(p, options, result);
   out.report = result.report;
   if (!assembled.violated_immovable.empty()) {  // no solver can keep that contact closed
     out.report.status = SolveStatus::kNumericalFailure;
@@ -121,13 +124,13 @@ StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const Static
   const int stride = p.UnknownsPerContact();
   for (int k = 0; k < p.NumContacts(); ++k) {
     out.forces[assembled.source_contact[k]] = Eigen::Vector2d(
-        result.impulses[k * stride], stride == 2 ? result.impulses[k * stride + 1] : 0.0) / options.dt;
+        result.impulses[k * stride], stride == 2 ? result.impulses[k * stride + 1] : 0.0) / dt;
   }
   if (!result.basis.empty()) {
     out.basis.assign(out.contacts.size(), 0);
     for (int k = 0; k < p.NumContacts(); ++k) out.basis[assembled.source_contact[k]] = result.basis[k];
   }
-  RecordMotion(scene, assembled, EndVelocityState(p, result.impulses), options.dt, out);
+  RecordMotion(scene, assembled, EndVelocityState(p, result.impulses), dt, out);
   out.equilibrium = CheckEquilibrium(rest, out.contacts, out.forces);
   return out;
 }

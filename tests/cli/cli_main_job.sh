@@ -17,7 +17,7 @@ import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 assert len(rows) == 3, len(rows)
 for r in rows:
-    assert r["status"] in ("ok", "dynamic", "not-converged"), r
+    assert r["status"] in ("ok", "dynamic", "nonlinear", "blocked", "not-converged"), r
     assert r["lp_min"] != "" and r["lp_max"] != "", r
     lo, hi, fc = float(r["lp_min"]), float(r["lp_max"]), float(r["f_crit"])
     assert lo <= float(r["f_cont"]) * (1 + 1e-9) + 1e-9 and float(r["f_cont"]) <= hi * (1 + 1e-9) + 1e-9, r

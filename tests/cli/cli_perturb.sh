@@ -171,9 +171,10 @@ PY
 "$unjam" perturb "$work/vg.unjam" --all --threads 1 --warmup-tol 1e-3 -o "$work/out" >/dev/null 2>"$work/wu.err"; code=$?
 [ "$code" -eq 2 ] && grep -q "warmup_tol" "$work/wu.err" || fail "records with the default warm-up resumed a run with --warmup-tol 1e-3: exit $code, $(head -c 300 "$work/wu.err")"
 
-# The fallback: on a frictional packing `auto` picks lemke with ipopt behind it, recorded in
-# the JSON and the header; each row names the backend of its answer; records with a
-# fallback do not resume a run without one. A named backend gets no fallback.
+# The fallback: on a frictional packing `auto` picks the rate solve, with lemke for the steps
+# it leaves undecided and ipopt behind lemke, recorded in the JSON and the header; each row
+# names the backend of its answer; records with a fallback do not resume a run without one.
+# A named backend gets no fallback.
 printf 'unjam-packing 1\ncell 10 10\ngravity 0 -1\nfriction 0.5\nparticles 3\n3.8 1 0 0 0 0 1 1 1\n6.2 1 0 0 0 0 1 1 1\n5 2.6 0 0 0 0 1 1 0\nend\n' >"$work/bare5.unjam"
 "$unjam" solve "$work/bare5.unjam" --tol 1e-14 -o "$work/vg5.unjam" >/dev/null || fail "solve, frictional: exit $?"
 "$unjam" perturb "$work/vg5.unjam" --all --json --threads 1 -o "$work/fb" >"$work/fb.json" 2>/dev/null || fail "perturb, frictional: exit $?"
@@ -181,9 +182,9 @@ printf 'unjam-packing 1\ncell 10 10\ngravity 0 -1\nfriction 0.5\nparticles 3\n3.
 /usr/bin/python3 - "$work/fb.json" "$work/fb/perturbations.csv" "$work/fb/records.jsonl" "$work/named.json" <<'PY' || fail "perturb: the fallback is recorded"
 import csv, json, sys
 d = json.load(open(sys.argv[1]))
-assert d["backend"] == "lemke" and d["fallback"] == "ipopt", d
+assert d["backend"] == "rate" and d["fallback"] == "ipopt", d
 rows = list(csv.DictReader(open(sys.argv[2])))
-assert len(rows) == 2 and all(r["backend"] == "lemke" for r in rows), rows
+assert len(rows) == 2 and all(r["backend"] == "rate" for r in rows), rows
 assert json.loads(open(sys.argv[3]).readline())["fallback"] == "ipopt"
 assert json.load(open(sys.argv[4]))["fallback"] == "none"
 PY
@@ -192,8 +193,9 @@ PY
 "$unjam" perturb "$work/vg5.unjam" --all --fallback simplex >/dev/null 2>"$work/fb.err"; code=$?
 [ "$code" -eq 2 ] && grep -q -- "--fallback" "$work/fb.err" || fail "--fallback simplex: exit $code, expected 2 naming the option"
 
-# A frictional packing of more than 2 000 contacts goes to newton, without a fallback
-# (lemke's paths take minutes to fail there); a lemke-only option still names lemke.
+# On a frictional packing of more than 2 000 contacts the steps the rate solve leaves
+# undecided go to newton, without a fallback (lemke's paths take minutes to fail there); a
+# lemke-only option still names lemke.
 # One Newton iteration: only the choice is checked, not the answer.
 big="$src/problems/pressure-n3000-mu0.5.unjam"
 quick=(--contact 4 --max-iter 1 --newton-iter 1 --no-check-linearity --threads 1 --json)
@@ -207,7 +209,7 @@ grep -q -- "--backend lemke --max-iter" "$work/big-lemke.err" && fail "perturb N
 /usr/bin/python3 - "$work/big.json" "$work/big-lemke.json" <<'PY' || fail "perturb: auto's choice on a large frictional packing"
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert d["backend"] == "newton" and d["fallback"] == "none" and d["dynamic_lp"] is False, d
+assert d["backend"] == "rate" and d["fallback"] == "none" and d["dynamic_lp"] is False, d
 d = json.load(open(sys.argv[2]))
 assert d["backend"] == "lemke", d
 PY
@@ -226,7 +228,7 @@ assert float(row["inertia_ratio"]) > 1e-5, row
 d = json.load(open(sys.argv[2]))
 assert d["dynamic_lp"] is True and d["dynamic"] == 1 and d["used"] == 0, d
 row = next(csv.DictReader(open(sys.argv[3] + "/perturbations.csv")))
-assert row["status"] == "ok" and row["backend"] == "lemke", row
+assert row["status"] == "ok" and row["backend"] == "rate", row
 PY
 
 # --member nearest: each answer is replaced by the member of its motion pattern nearest the

@@ -177,27 +177,31 @@ TEST(Perturbation, TheAutoFallbackIsIpoptAfterLemkeAndLemkeAfterNewton) {
   EXPECT_THROW(Validate(o), std::invalid_argument);
 }
 
-TEST(Perturbation, AutoGivesLargeFrictionalPackingsToNewtonUnlessALemkeOptionIsSet) {
+TEST(Perturbation, AutoSolvesByRateAndGivesUndecidedLargeFrictionalStepsToNewton) {
+  // The rate solve first at every size; where it gives no definite answer, the whole step:
   // Lemke's paths on the bundled N = 3000 packing (3 854 force-carrying contacts) run out
-  // of their budget after 12 minutes, where newton answers in half a minute
-  // (docs/perturbations.md, "Which backend `auto` picks"); the N = 500 one stays lemke's.
+  // of their budget after 12 minutes, where newton answers in half a minute; the N = 500
+  // one stays lemke's.
   const std::string dir = std::string(UNJAM_SOURCE_DIR) + "/problems/";
   const Scene small = ReadPacking(dir + "pressure-n500-mu0.5.unjam");
   const Scene large = ReadPacking(dir + "pressure-n3000-mu0.5.unjam");
   Scene large_frictionless = large;
   large_frictionless.effects.friction = 0.0;
   PerturbationOptions o;
-  EXPECT_EQ(PerturbationBackend(o, small), "lemke");
+  EXPECT_EQ(PerturbationBackend(o, small), "rate");
+  EXPECT_EQ(PerturbationBackend(o, large), "rate");
+  EXPECT_EQ(StepBackend(o, small), "lemke");
   EXPECT_EQ(PerturbationFallback(o, small), "ipopt");
-  EXPECT_EQ(PerturbationBackend(o, large), "newton");
+  EXPECT_EQ(StepBackend(o, large), "newton");
   EXPECT_EQ(PerturbationFallback(o, large), "") << "lemke would take minutes to fail after newton";
   EXPECT_TRUE(AutoLeavesLemkeForSize(o, large)) << "the case in which perturb names lemke as the remedy";
   EXPECT_FALSE(AutoLeavesLemkeForSize(o, small));
   EXPECT_FALSE(AutoLeavesLemkeForSize(o, large_frictionless)) << "newton is auto's own choice without friction";
-  EXPECT_EQ(PerturbationBackend(o, large_frictionless), "newton");
+  EXPECT_EQ(StepBackend(o, large_frictionless), "newton");
   EXPECT_EQ(PerturbationFallback(o, large_frictionless), "lemke") << "a frictionless step keeps lemke after newton";
   o.solver.lemke_box_rate_first = true;  // an option only lemke reads names the backend
   EXPECT_EQ(PerturbationBackend(o, large), "lemke");
+  EXPECT_EQ(StepBackend(o, large), "lemke");
   EXPECT_FALSE(AutoLeavesLemkeForSize(o, large));
   EXPECT_EQ(PerturbationFallback(o, large), "ipopt");
   o.solver.lemke_box_rate_first = false;
@@ -205,11 +209,14 @@ TEST(Perturbation, AutoGivesLargeFrictionalPackingsToNewtonUnlessALemkeOptionIsS
   EXPECT_EQ(PerturbationBackend(o, large), "lemke");
   o.prefer_quasi_static = false;
   o.cell = CellCondition::kFixedVolume;  // newton at fixed volume, whatever the size
-  EXPECT_EQ(PerturbationBackend(o, small), "newton");
+  EXPECT_EQ(PerturbationBackend(o, small), "rate");
+  EXPECT_EQ(StepBackend(o, small), "newton");
   EXPECT_EQ(PerturbationFallback(o, small), "");
   EXPECT_FALSE(AutoLeavesLemkeForSize(o, large)) << "at fixed volume lemke ends on the unloaded solution";
   o.cell = CellCondition::kFixedPressure;
   o.backend = "newton";  // a backend the user names is not second-guessed
+  EXPECT_EQ(PerturbationBackend(o, small), "newton");
+  EXPECT_EQ(StepBackend(o, small), "newton");
   EXPECT_FALSE(AutoLeavesLemkeForSize(o, large));
 }
 
@@ -236,23 +243,30 @@ TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
 }
 
 // The top disk of the column lifted by ξ leaves its only contact: it needs no force (a
-// rattler, by the bottom shift's definition). From the static forces newton crawls along
-// the column's self-stress (the contact keeps the disk's weight to within ξ) and leaves the
-// step unresolved; the auto fallback, lemke, solves it exactly.
+// rattler, by the bottom shift's definition). The rate solve opens that contact at the
+// first event, with exactly no force. From the static forces newton crawls along the
+// column's self-stress (the contact keeps the disk's weight to within ξ) and leaves the
+// step unresolved; lemke solves it exactly.
 TEST(Perturbation, LiftingALoneDiskNeedsNoForce) {
   const Scene scene = Column();
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  const PerturbationResult r = Perturb(base, ParticleShift(base, 2, Vec2(0.0, 1.0)), o);
+  const PerturbationTarget lift = ParticleShift(base, 2, Vec2(0.0, 1.0));
+  const PerturbationResult r = Perturb(base, lift, o);
   ASSERT_EQ(r.status, "ok") << r.solve.message;
   EXPECT_EQ(r.f_crit, 0.0);
   EXPECT_FALSE(std::signbit(r.f_crit));
-  EXPECT_EQ(r.solve.backend, "lemke") << r.solve.message;
+  EXPECT_EQ(r.solve.backend, "rate") << r.solve.message;
   EXPECT_LT(r.displacement[1].norm(), 1e-3 * o.gap);  // the disk below stays
   const EnsembleOptions ensemble;
   EXPECT_TRUE(Reduce(base, r, MakeLayout(base, ensemble, o.gap), ensemble).rattler);
+  o.backend = "lemke";
+  const PerturbationResult by_lemke = Perturb(base, lift, o);
+  EXPECT_EQ(by_lemke.status, "ok");
+  EXPECT_EQ(by_lemke.f_crit, 0.0);
+  o.backend = "newton";
   o.fallback = "none";
-  EXPECT_EQ(Perturb(base, ParticleShift(base, 2, Vec2(0.0, 1.0)), o).status, "not-converged");
+  EXPECT_EQ(Perturb(base, lift, o).status, "not-converged");
 }
 
 // k equal disks (radius 1/2, mass π/4) stacked on a floor in a frictionless channel one
@@ -549,6 +563,7 @@ TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
 TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
+  o.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationTarget target = OpeningOf(base, 3, 447);
   ASSERT_EQ(target.i, 3);
@@ -573,6 +588,7 @@ TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
 TEST(Perturbation, LemkeResolvesEveryShiftOfTheSmallPile) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   PerturbationOptions o;
+  o.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, o);
   std::vector<PerturbationTarget> targets = TopTargets(base);
   const std::vector<PerturbationTarget> bottom = BottomTargets(base);
@@ -595,6 +611,7 @@ TEST(Perturbation, LemkeResolvesEveryShiftOfTheSmallPile) {
 TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   PerturbationOptions path;
+  path.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, path);
   const PerturbationTarget target = TopTargets(base)[5];
   ASSERT_EQ(target.i, 33);
@@ -631,6 +648,7 @@ TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
 void OpenContactOfTheMu01Packing(std::size_t index, int i, int j, PerturbationResult& r) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
   PerturbationOptions o;
+  o.backend = "lemke";
   o.check_linearity = false;  // these tests are about resolving one step; the check doubles it
   const PerturbationBase base = PreparePerturbations(scene, o);
   const std::vector<PerturbationTarget> all = ContactTargets(base);
@@ -699,6 +717,7 @@ PerturbationTarget TopShiftOf(const PerturbationBase& base, int particle) {
 TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n200-w8-mu0.1.unjam");
   PerturbationOptions o;
+  o.backend = "lemke";
   o.fallback = "none";
   const PerturbationBase base = PreparePerturbations(scene, o);
   const EquilibriumSystem system = BuildEquilibriumSystem(scene);
@@ -729,6 +748,7 @@ TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
 TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
   PerturbationOptions o;
+  o.backend = "lemke";
   o.fallback = "none";
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationTarget target = TopShiftOf(base, 143);

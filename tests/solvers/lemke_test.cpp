@@ -188,7 +188,7 @@ TEST(LemkeBackend, FrictionalOpeningIsResolvedAndInsideTheAdmissibleInterval) {
   // F_crit lies in the LP interval [min, max without friction] of the same contact.
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
-  ASSERT_EQ(PerturbationBackend(o, scene), "lemke");
+  o.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, o);
   PerturbationTarget target;
   for (const PerturbationTarget& t : ContactTargets(base)) {

@@ -45,12 +45,10 @@ struct PerturbationOptions {
   // count as exactly closed (well below ξ).
   double margin = 1e-6;
   double closed_gap_tolerance = 1e-12;
-  // "auto" (PerturbationBackend): lemke on frictional packings of up to 2 000
-  // force-carrying contacts (or of any size when a lemke-only option is set), else newton.
-  // A response of size ξ needs residuals near 1e-12, where NSGS is slow and, on
-  // frictionless packings, leaves δ biased by 2–4 %; on frictional ones newton stalls near
-  // 1e-11 and Lemke's pivoting resolves them (docs/backends.md), but on larger packings
-  // its paths outrun any budget of minutes.
+  // "auto" (PerturbationBackend): the rate solve ("rate": the quasi-rigid loading path in
+  // the self-stress space, then the step solved exactly on its contact states;
+  // docs/perturbations.md, "How a perturbation is solved"); where it gives no definite
+  // answer, the whole step is solved by StepBackend. A lemke-only option names lemke.
   std::string backend = "auto";
   // When the backend leaves a step unresolved, it is solved once more by this one
   // (PerturbationFallback): "auto" (where `backend` is "auto": ipopt after lemke, lemke
@@ -101,12 +99,15 @@ double DetectionMargin(const PerturbationOptions& options);
 // Up to this many force-carrying contacts "auto" gives frictional steps at fixed pressure
 // to lemke, above it to newton (perturbation.cpp says why).
 inline constexpr std::size_t kLemkeAutoContacts = 2000;
-// The backend a perturbation uses: options.backend, or for "auto" lemke on frictional
-// packings of up to kLemkeAutoContacts contacts, or of any size when a lemke-only option
-// is set (it resolves the stick/slide combinatorics where newton stalls), newton on larger
-// ones, on frictionless ones (exact too, and 20× faster) and at fixed volume (where Lemke
-// picks the unloaded solution of a stress level that the frozen cell leaves free).
+// The backend a perturbation uses: options.backend, or for "auto" the rate solve ("rate"),
+// or lemke when a lemke-only option is set.
 std::string PerturbationBackend(const PerturbationOptions& options, const Scene& scene);
+// The backend that solves the whole step where the rate solve gives no definite answer (or
+// options.backend if it names one): lemke on frictional packings of up to
+// kLemkeAutoContacts contacts, newton on larger ones, on frictionless ones (exact too, and
+// 20× faster) and at fixed volume (where Lemke picks the unloaded solution of a stress
+// level that the frozen cell leaves free).
+std::string StepBackend(const PerturbationOptions& options, const Scene& scene);
 // Whether "auto" leaves a frictional step at fixed pressure to newton only because the
 // packing has more than kLemkeAutoContacts contacts (where lemke would resolve what newton
 // stalls on, given minutes and a larger budget): the case in which `perturb` names lemke.
@@ -183,6 +184,7 @@ struct PerturbationResult {
 };
 
 struct OpeningInertiaLp;  // perturbation.cpp
+struct RateBaseSlot;      // perturbation.cpp
 
 // The static packing a set of perturbations starts from: the scene at rest with its
 // stored forces (which must be static: checked once, see PreparePerturbations).
@@ -198,6 +200,9 @@ struct PerturbationBase {
   // opening continues (problem/inertia_bound.hpp, HeldContactInertia); solved by the first
   // opening that needs it, shared by all.
   std::shared_ptr<OpeningInertiaLp> opening_inertia_lp;
+  // The unperturbed step in the coordinates of the rate problem (its self-stresses: a
+  // sparse QR), made by the first perturbation that needs it, shared by all.
+  std::shared_ptr<RateBaseSlot> rate;
 };
 
 // The unjam residual is an impulse error over the mean impulse F̄Δt (docs/residual.md). A

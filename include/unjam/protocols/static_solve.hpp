@@ -67,6 +67,10 @@ StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& op
 // looked at it first (a perturbation checks its kinematics), without posing it again.
 StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const StaticSolveOptions& options);
 
+// The solution that `result` (impulses of posed's problem, from any backend or method) makes:
+// forces per contact, the motion over the step, the equilibrium check.
+StaticSolution SolutionOf(const Scene& scene, StaticProblem posed, const SolveResult& result, double dt);
+
 // The forces as the scene stores them (only force-carrying contacts), a normal force below
 // zero (round-off of a backend) stored as 0.
 std::vector<ContactForce> ToContactForces(const StaticSolution& solution);

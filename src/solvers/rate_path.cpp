@@ -1,0 +1,606 @@
+#include "unjam/solvers/rate_path.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_set>
+
+#include <Eigen/Dense>
+
+namespace unjam {
+
+const char* ToString(RatePathEnd end) {
+  switch (end) {
+    case RatePathEnd::kCollapse: return "collapse";
+    case RatePathEnd::kUnbounded: return "unbounded";
+    case RatePathEnd::kReleaseFails: return "release-fails";
+    case RatePathEnd::kFixedCollapse: return "fixed-collapse";
+    case RatePathEnd::kBack: return "back";
+    case RatePathEnd::kCycle: return "cycle";
+    case RatePathEnd::kStalled: return "stalled";
+    case RatePathEnd::kSingular: return "singular";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// On a piece whose direction is a unit vector, a rate below −kRateTolerance approaches its
+// bound; steps within kTie of each other are equal at order zero, and the perturbation
+// (below) decides between them.
+constexpr double kRateTolerance = 1e-13;
+constexpr double kTie = 1e-11;
+
+// A number of the perturbed problem, v₀ + ε v₁ for an infinitesimal ε > 0: every bound of
+// the contact law is moved outward by ε times a weight (distinct for every bound), which
+// makes the path non-degenerate, as the lexicographic rule does for Lemke's method, without
+// changing any order-zero value. Several bounds reached at one point of the path (a static
+// state with contacts on the edge of their cone, a contact reaching the apex) are then
+// reached one after the other, in the order of their ε parts.
+struct Lex {
+  double v0 = 0.0, v1 = 0.0;
+};
+bool LexLess(const Lex& a, const Lex& b) {
+  if (a.v0 < b.v0 - kTie * (1.0 + std::abs(b.v0))) return true;
+  if (b.v0 < a.v0 - kTie * (1.0 + std::abs(a.v0))) return false;
+  return a.v1 < b.v1;
+}
+
+enum class UnknownKind { kSlip, kOpenNormal, kOpenTangential, kApexPlus, kApexMinus };
+struct Unknown {
+  int contact;
+  UnknownKind kind;
+  bool operator==(const Unknown& o) const { return contact == o.contact && kind == o.kind; }
+};
+
+enum class EventKind { kNone, kSlipStops, kCloses, kLeavesApex, kStartsSliding, kOpens, kParameterLimit };
+struct Event {
+  EventKind kind = EventKind::kNone;
+  int contact = -1;
+  double sign = 0.0;   // kStartsSliding: the slip direction; kLeavesApex: the flow that stops
+  Lex step{kInf, kInf};
+};
+
+// The quantity whose growth orients the next piece.
+enum class Orientation { kParameter, kUnknown, kNormalForce, kFrictionRow };
+
+// A contact's bounds: y⁺ = μ r_n − r_t ≥ 0, y⁻ = μ r_n + r_t ≥ 0, r_n ≥ 0; their ε weights.
+struct Weights {
+  double plus = 1.0, minus = 1.0, normal = 1.0;
+};
+Weights WeightsOf(int contact) {
+  // Fractional parts of multiples of the golden ratio: distinct, in [1, 2).
+  auto w = [](long long k) { const double x = 0.6180339887498949 * static_cast<double>(k); return 1.0 + (x - std::floor(x)); };
+  return {w(3LL * contact + 1), w(3LL * contact + 2), w(3LL * contact + 3)};
+}
+
+class PathFollower {
+ public:
+  PathFollower(const RateProblem& p, const RatePathOptions& o) : p_(p), options_(o), dims_(p.basis.cols()) {
+    const std::size_t n = p.contacts.size();
+    state_.assign(n, ContactState::kStick);
+    for (auto* v : {&slip_, &open_n_, &open_t_, &apex_plus_, &apex_minus_}) v->assign(n, Lex{});
+    weights_.resize(n);
+    for (std::size_t c = 0; c < n; ++c) weights_[c] = WeightsOf(static_cast<int>(c));
+    BuildRelease();
+  }
+
+  RatePathResult Run() {
+    RatePathResult out;
+    if (!release_possible_) return Finish(RatePathEnd::kReleaseFails, "no self-stress carries the released force", out);
+    base0_ = Eigen::VectorXd::Zero(dims_);
+    base1_ = Eigen::VectorXd::Zero(dims_);
+    if (release_.norm() > 0.0) {
+      // Phase 1, with the associated (dilatant) law: its holonomic path ends on the
+      // admissible network nearest the elastic release (a projection onto a convex set),
+      // which exists exactly when the static LP is feasible.
+      associated_ = true;
+      direction_ = release_;
+      const RatePathEnd end = Follow(1.0, out);
+      if (end != RatePathEnd::kCollapse) return Finish(RatePathEnd::kReleaseFails, std::string("releasing: ") + ToString(end), out);
+      const Eigen::VectorXd alpha0 = Alpha0(), alpha1 = Alpha1();
+      Reset();
+      base0_ = alpha0;
+      base1_ = alpha1;
+    }
+    // Phase 2: the perturbation, with Coulomb's law, from the released network. The contacts
+    // phase 1 left on a bound of its perturbed problem sit on it exactly; phase 2 moves every
+    // bound out by as much again, so that its start too is strictly inside them all.
+    associated_ = false;
+    weight_scale_ = 2.0;
+    direction_ = projector_ * p_.driver;
+    seen_.clear();
+    const RatePathEnd end = Follow(kInf, out);
+    return Finish(end, "", out);
+  }
+
+ private:
+  // Every contact sticking again with no plastic displacement, t = 0: the released network
+  // is the prestress the perturbation starts from.
+  void Reset() {
+    std::fill(state_.begin(), state_.end(), ContactState::kStick);
+    for (auto* v : {&slip_, &open_n_, &open_t_, &apex_plus_, &apex_minus_}) std::fill(v->begin(), v->end(), Lex{});
+    t_ = Lex{};
+    unknowns_.clear();
+    pg_.resize(dims_, 0);
+    epg_.resize(0, 0);
+    ed_.resize(0);
+    e_.resize(0, dims_);
+  }
+
+  // P and the least-norm α that zeroes the released forces.
+  void BuildRelease() {
+    projector_ = Eigen::MatrixXd::Identity(dims_, dims_);
+    release_ = Eigen::VectorXd::Zero(dims_);
+    pg_.resize(dims_, 0);
+    e_.resize(0, dims_);
+    if (p_.released_rows.empty()) return;
+    Eigen::MatrixXd rows(static_cast<Eigen::Index>(p_.released_rows.size()), dims_);
+    Eigen::VectorXd target(rows.rows());
+    for (Eigen::Index k = 0; k < rows.rows(); ++k) {
+      const int r = p_.released_rows[static_cast<std::size_t>(k)];
+      rows.row(k) = p_.basis.row(r);
+      target[k] = -StaticImpulse(r);
+    }
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(rows.transpose());
+    qr.setThreshold(1e-10);
+    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(dims_, qr.rank());
+    projector_ -= q * q.transpose();
+    release_ = rows.completeOrthogonalDecomposition().solve(target);
+    release_possible_ = (rows * release_ - target).norm() <= 1e-9 * std::max(1.0, target.norm());
+  }
+
+  double StaticImpulse(int row) const {
+    for (const RateContact& c : p_.contacts) {
+      if (c.row_n == row) return c.r0_n;
+      if (c.row_t == row) return c.r0_t;
+    }
+    return 0.0;
+  }
+
+  bool Frictional(const RateContact& c) const { return c.row_t >= 0; }
+  const RateContact& ContactOf(int c) const { return p_.contacts[static_cast<std::size_t>(c)]; }
+  Eigen::VectorXd RowN(const RateContact& c) const { return p_.basis.row(c.row_n).transpose(); }
+  Eigen::VectorXd RowT(const RateContact& c) const { return p_.basis.row(c.row_t).transpose(); }
+  // The gradient of the cone's edge μ r_n + σ r_t ≥ 0, in the basis' coordinates.
+  Eigen::VectorXd EdgeNormal(const RateContact& c, double sigma) const { return c.mu * RowN(c) + sigma * RowT(c); }
+  double SlipSign(int c) const { return state_[static_cast<std::size_t>(c)] == ContactState::kSlidePositive ? 1.0 : -1.0; }
+  // The weight of the edge μ r_n + σ r_t ≥ 0 (σ = −1: y⁺, σ = +1: y⁻).
+  double EdgeWeight(int c, double sigma) const {
+    const Weights& w = weights_[static_cast<std::size_t>(c)];
+    return weight_scale_ * (sigma < 0.0 ? w.plus : w.minus);
+  }
+  double NormalWeight(int c) const { return weight_scale_ * weights_[static_cast<std::size_t>(c)].normal; }
+
+  // G_c: how an unknown displaces its contact, in the basis' coordinates.
+  Eigen::VectorXd Column(const Unknown& u) const {
+    const RateContact& c = ContactOf(u.contact);
+    switch (u.kind) {
+      case UnknownKind::kSlip:
+        // Coulomb: along the tangent; associated: along the normal of the edge the force is
+        // on, μ n + σ t for a slip σ (it opens the contact too).
+        return associated_ ? EdgeNormal(c, SlipSign(u.contact)) : Eigen::VectorXd(SlipSign(u.contact) * RowT(c));
+      case UnknownKind::kOpenNormal: return RowN(c);
+      case UnknownKind::kOpenTangential: return RowT(c);
+      case UnknownKind::kApexPlus: return EdgeNormal(c, -1.0);
+      case UnknownKind::kApexMinus: return EdgeNormal(c, +1.0);
+    }
+    return {};
+  }
+
+  // The row e of an unknown's force equation e·α + b = 0 (b fixed: the path moves along
+  // the kernel of these rows, and the event that adds an unknown puts it on its equation).
+  Eigen::VectorXd EquationRow(const Unknown& u) const {
+    const RateContact& c = ContactOf(u.contact);
+    switch (u.kind) {
+      case UnknownKind::kSlip: return EdgeNormal(c, SlipSign(u.contact));  // on the edge opposing the slip
+      case UnknownKind::kApexPlus: return EdgeNormal(c, -1.0);
+      case UnknownKind::kApexMinus: return EdgeNormal(c, +1.0);
+      case UnknownKind::kOpenNormal: return RowN(c);       // r_n stays at its bound
+      case UnknownKind::kOpenTangential: return RowT(c);   // r_t stays as it was
+    }
+    return {};
+  }
+
+  Lex& Value(const Unknown& u) {
+    const auto c = static_cast<std::size_t>(u.contact);
+    switch (u.kind) {
+      case UnknownKind::kSlip: return slip_[c];
+      case UnknownKind::kOpenNormal: return open_n_[c];
+      case UnknownKind::kOpenTangential: return open_t_[c];
+      case UnknownKind::kApexPlus: return apex_plus_[c];
+      case UnknownKind::kApexMinus: return apex_minus_[c];
+    }
+    return slip_[c];
+  }
+
+  // The unknowns of every moving contact, in contact order.
+  std::vector<Unknown> WantedUnknowns() const {
+    std::vector<Unknown> u;
+    for (std::size_t c = 0; c < state_.size(); ++c) {
+      const int k = static_cast<int>(c);
+      switch (state_[c]) {
+        case ContactState::kStick: break;
+        case ContactState::kSlidePositive:
+        case ContactState::kSlideNegative: u.push_back({k, UnknownKind::kSlip}); break;
+        case ContactState::kOpen:
+          if (associated_ && Frictional(p_.contacts[c])) {  // at the apex: a flow along each edge's normal
+            u.push_back({k, UnknownKind::kApexPlus});
+            u.push_back({k, UnknownKind::kApexMinus});
+          } else {
+            u.push_back({k, UnknownKind::kOpenNormal});
+            if (Frictional(p_.contacts[c])) u.push_back({k, UnknownKind::kOpenTangential});
+          }
+          break;
+      }
+    }
+    return u;
+  }
+
+  // Brings P G, E P G and E d up to date with the contacts' states: only the unknowns that
+  // came or went change a row and a column (O(m D) each, not O(m² D)).
+  void UpdateSystem() {
+    const std::vector<Unknown> wanted = WantedUnknowns();
+    // Drop the unknowns no longer wanted (and those whose column changed: a slip whose sign flipped).
+    for (std::size_t k = unknowns_.size(); k-- > 0;) {
+      const bool keep = std::find(wanted.begin(), wanted.end(), unknowns_[k]) != wanted.end() &&
+                        (unknowns_[k].kind != UnknownKind::kSlip || slip_sign_[k] == SlipSign(unknowns_[k].contact));
+      if (keep) continue;
+      RemoveAt(static_cast<Eigen::Index>(k));
+    }
+    for (const Unknown& u : wanted) {
+      if (std::find(unknowns_.begin(), unknowns_.end(), u) == unknowns_.end()) Append(u);
+    }
+  }
+
+  void RemoveAt(Eigen::Index k) {
+    const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
+    auto drop_row = [&](Eigen::MatrixXd& a) {
+      if (k < a.rows() - 1) a.block(k, 0, a.rows() - k - 1, a.cols()) = a.bottomRows(a.rows() - k - 1).eval();
+      a.conservativeResize(a.rows() - 1, a.cols());
+    };
+    auto drop_col = [&](Eigen::MatrixXd& a) {
+      if (k < a.cols() - 1) a.block(0, k, a.rows(), a.cols() - k - 1) = a.rightCols(a.cols() - k - 1).eval();
+      a.conservativeResize(a.rows(), a.cols() - 1);
+    };
+    drop_col(pg_);
+    drop_row(e_);
+    drop_row(epg_);
+    drop_col(epg_);
+    if (k < m - 1) ed_.segment(k, m - k - 1) = ed_.tail(m - k - 1).eval();
+    ed_.conservativeResize(m - 1);
+    unknowns_.erase(unknowns_.begin() + k);
+    slip_sign_.erase(slip_sign_.begin() + k);
+  }
+
+  void Append(const Unknown& u) {
+    const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
+    const Eigen::VectorXd e = EquationRow(u);
+    const Eigen::VectorXd pg = projector_ * Column(u);
+    pg_.conservativeResize(dims_, m + 1);
+    pg_.col(m) = pg;
+    e_.conservativeResize(m + 1, dims_);
+    e_.row(m) = e.transpose();
+    epg_.conservativeResize(m + 1, m + 1);
+    epg_.row(m) = e.transpose() * pg_;
+    epg_.col(m) = e_ * pg;
+    ed_.conservativeResize(m + 1);
+    ed_[m] = e.dot(direction_);
+    unknowns_.push_back(u);
+    slip_sign_.push_back(u.kind == UnknownKind::kSlip ? SlipSign(u.contact) : 0.0);
+  }
+
+  Eigen::VectorXd UnknownValues(bool order1) {
+    Eigen::VectorXd u(static_cast<Eigen::Index>(unknowns_.size()));
+    for (std::size_t k = 0; k < unknowns_.size(); ++k) {
+      const Lex& v = Value(unknowns_[k]);
+      u[static_cast<Eigen::Index>(k)] = order1 ? v.v1 : v.v0;
+    }
+    return u;
+  }
+  Eigen::VectorXd Alpha0() { return base0_ + t_.v0 * direction_ + pg_ * UnknownValues(false); }
+  Eigen::VectorXd Alpha1() { return base1_ + t_.v1 * direction_ + pg_ * UnknownValues(true); }
+
+  // One piece: the unit direction (du, dt) in the kernel of [E P G | E d].
+  bool Direction(Eigen::VectorXd& dir) const {
+    const Eigen::Index m = epg_.rows();
+    if (m == 0) {
+      dir = Eigen::VectorXd::Ones(1);
+      return true;
+    }
+    Eigen::MatrixXd k(m, m + 1);
+    k << epg_, ed_;
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(k.transpose());
+    qr.setThreshold(1e-11);
+    if (qr.rank() < m) return false;
+    dir = qr.householderQ() * Eigen::VectorXd::Unit(m + 1, m);
+    return true;
+  }
+
+  std::uint64_t StateHash() const {
+    std::uint64_t h = 1469598103934665603ull;
+    for (ContactState s : state_) h = (h ^ static_cast<std::uint64_t>(s)) * 1099511628211ull;
+    return h;
+  }
+
+  // Follows the path until t reaches t_max (kCollapse returned for that), or it ends.
+  RatePathEnd Follow(double t_max, RatePathResult& out) {
+    Orientation orient = Orientation::kParameter;
+    int oriented_contact = -1;
+    double last_dt = 1.0;
+    for (;;) {
+      if (out.events >= options_.max_events) return RatePathEnd::kStalled;
+      if (!seen_.insert(StateHash()).second && out.events > 0) return RatePathEnd::kCycle;
+      UpdateSystem();
+      Eigen::VectorXd dir;
+      if (!Direction(dir)) return RatePathEnd::kSingular;
+      const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
+      Eigen::VectorXd dalpha = pg_ * dir.head(m) + dir[m] * direction_;
+      const double sign = Orient(orient, oriented_contact, dir, dalpha);
+      if (sign == 0.0) return RatePathEnd::kSingular;
+      dir *= sign;
+      dalpha *= sign;
+      const double dt = dir[m];
+      if (dt * last_dt < 0.0) ++out.turns;
+      if (std::abs(dt) > kRateTolerance) last_dt = dt;
+      last_dir_ = dir;
+      last_dalpha_ = dalpha;
+      last_dt_ = dt;
+      last_unknowns_ = unknowns_;
+
+      const Eigen::VectorXd alpha0 = Alpha0(), alpha1 = Alpha1();
+      const Event next = NextEvent(dir, alpha0, alpha1, dalpha, t_max);
+      if (next.kind == EventKind::kNone) {
+        if (std::abs(dt) <= kRateTolerance) return RatePathEnd::kFixedCollapse;
+        if (dt < 0.0) return RatePathEnd::kBack;
+        return dalpha.norm() <= 1e-9 * dt ? RatePathEnd::kCollapse : RatePathEnd::kUnbounded;
+      }
+      for (Eigen::Index k = 0; k < m; ++k) {
+        Lex& v = Value(unknowns_[static_cast<std::size_t>(k)]);
+        v.v0 += next.step.v0 * dir[k];
+        v.v1 += next.step.v1 * dir[k];
+      }
+      t_.v0 += next.step.v0 * dt;
+      t_.v1 += next.step.v1 * dt;
+      if (next.kind == EventKind::kParameterLimit) return RatePathEnd::kCollapse;
+      ++out.events;
+      Apply(next, orient, oriented_contact);
+    }
+  }
+
+  // +1 or −1: the orientation of the new piece along which the quantity that the last event
+  // released grows (0: it does not move, a degenerate piece).
+  double Orient(Orientation orient, int contact, const Eigen::VectorXd& dir, const Eigen::VectorXd& dalpha) const {
+    const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
+    double rate = 0.0;
+    switch (orient) {
+      case Orientation::kParameter: rate = dir[m]; break;
+      case Orientation::kUnknown:
+        for (Eigen::Index k = 0; k < m; ++k) {
+          const Unknown& u = unknowns_[static_cast<std::size_t>(k)];
+          if (u.contact == contact && u.kind == oriented_kind_) rate = dir[k];
+        }
+        break;
+      case Orientation::kNormalForce: rate = RowN(ContactOf(contact)).dot(dalpha); break;
+      case Orientation::kFrictionRow: rate = EdgeNormal(ContactOf(contact), friction_row_sign_).dot(dalpha); break;
+    }
+    if (std::abs(rate) <= kRateTolerance) return 0.0;
+    return rate > 0.0 ? 1.0 : -1.0;
+  }
+
+  static void Consider(const Event& candidate, Event& best) {
+    if (LexLess(candidate.step, best.step)) best = candidate;
+  }
+  // The step at which a value v₀ + ε v₁, changing at `rate` < 0 per unit step, reaches 0.
+  static Lex StepTo(double v0, double v1, double rate) { return {std::max(0.0, v0) / -rate, v1 / -rate}; }
+
+  Event NextEvent(const Eigen::VectorXd& dir, const Eigen::VectorXd& alpha0, const Eigen::VectorXd& alpha1,
+                  const Eigen::VectorXd& dalpha, double t_max) {
+    Event best;
+    const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
+    for (Eigen::Index k = 0; k < m; ++k) {
+      const Unknown& u = unknowns_[static_cast<std::size_t>(k)];
+      if (u.kind == UnknownKind::kOpenTangential || dir[k] >= -kRateTolerance) continue;
+      const Lex v = Value(u);
+      EventKind kind = EventKind::kCloses;
+      double sign = 0.0;
+      if (u.kind == UnknownKind::kSlip) kind = EventKind::kSlipStops;
+      if (u.kind == UnknownKind::kApexPlus || u.kind == UnknownKind::kApexMinus) {
+        kind = EventKind::kLeavesApex;
+        sign = u.kind == UnknownKind::kApexPlus ? -1.0 : 1.0;
+      }
+      Consider({kind, u.contact, sign, StepTo(v.v0, v.v1, dir[k])}, best);
+    }
+    // The forces of every contact, their ε parts and rates: r = r₀ + S α.
+    const Eigen::VectorXd f0 = p_.basis * alpha0, f1 = p_.basis * alpha1, df = p_.basis * dalpha;
+    for (std::size_t ci = 0; ci < p_.contacts.size(); ++ci) {
+      const RateContact& c = p_.contacts[ci];
+      if (c.held || state_[ci] == ContactState::kOpen) continue;
+      const int k = static_cast<int>(ci);
+      const double rn = c.r0_n + f0[c.row_n], rn1 = f1[c.row_n], drn = df[c.row_n];
+      if (!Frictional(c)) {  // a frictionless contact opens at r_n = −ε w
+        if (drn < -kRateTolerance) Consider({EventKind::kOpens, k, 0.0, StepTo(rn, rn1 + NormalWeight(k), drn)}, best);
+        continue;
+      }
+      const double rt = c.r0_t + f0[c.row_t], rt1 = f1[c.row_t], drt = df[c.row_t];
+      if (state_[ci] != ContactState::kStick) {
+        // A sliding contact reaches the apex: Coulomb's law opens it at r_n = −ε w; the
+        // associated one meets the other edge, μ r_n − σ r_t = −ε w.
+        const double other = -SlipSign(k);
+        const double y = associated_ ? c.mu * rn + other * rt : rn;
+        const double y1 = associated_ ? c.mu * rn1 + other * rt1 + EdgeWeight(k, other) : rn1 + NormalWeight(k);
+        const double dy = associated_ ? c.mu * drn + other * drt : drn;
+        if (dy < -kRateTolerance) Consider({EventKind::kOpens, k, 0.0, StepTo(y, y1, dy)}, best);
+        continue;
+      }
+      // y⁺ = μ r_n − r_t reaches −ε w: the friction force points along +t, the slip along −t.
+      const double dyp = c.mu * drn - drt, dym = c.mu * drn + drt;
+      if (dyp < -kRateTolerance) {
+        Consider({EventKind::kStartsSliding, k, -1.0, StepTo(c.mu * rn - rt, c.mu * rn1 - rt1 + EdgeWeight(k, -1.0), dyp)}, best);
+      }
+      if (dym < -kRateTolerance) {
+        Consider({EventKind::kStartsSliding, k, +1.0, StepTo(c.mu * rn + rt, c.mu * rn1 + rt1 + EdgeWeight(k, 1.0), dym)}, best);
+      }
+    }
+    const double dt = dir[m];
+    if (dt > kRateTolerance && t_max < kInf) {
+      const Lex step{(t_max - t_.v0) / dt, -t_.v1 / dt};
+      if (!LexLess(best.step, step)) best = {EventKind::kParameterLimit, -1, 0.0, step};
+    }
+    return best;
+  }
+
+  void Apply(const Event& ev, Orientation& orient, int& contact) {
+    const auto c = static_cast<std::size_t>(ev.contact);
+    contact = ev.contact;
+    switch (ev.kind) {
+      case EventKind::kStartsSliding:
+        state_[c] = ev.sign > 0.0 ? ContactState::kSlidePositive : ContactState::kSlideNegative;
+        slip_[c] = Lex{};
+        oriented_kind_ = UnknownKind::kSlip;
+        orient = Orientation::kUnknown;
+        break;
+      case EventKind::kSlipStops:
+        // Back inside the cone: the edge it slid on (μ r_n + σ r_t) must open up.
+        friction_row_sign_ = SlipSign(ev.contact);
+        state_[c] = ContactState::kStick;
+        slip_[c] = Lex{};
+        orient = Orientation::kFrictionRow;
+        break;
+      case EventKind::kOpens: {
+        if (associated_ && Frictional(ContactOf(ev.contact))) {  // the force reaches the apex: both edges' flows
+          const bool on_minus_edge = state_[c] == ContactState::kSlidePositive;  // y⁻ active
+          apex_minus_[c] = on_minus_edge ? slip_[c] : Lex{};
+          apex_plus_[c] = on_minus_edge ? Lex{} : slip_[c];
+          slip_[c] = Lex{};
+          state_[c] = ContactState::kOpen;
+          oriented_kind_ = on_minus_edge ? UnknownKind::kApexPlus : UnknownKind::kApexMinus;
+          orient = Orientation::kUnknown;
+          break;
+        }
+        const double s = state_[c] == ContactState::kStick ? 0.0 : SlipSign(ev.contact);
+        open_t_[c] = {s * slip_[c].v0, s * slip_[c].v1};  // its tangential displacement goes on
+        open_n_[c] = Lex{};
+        slip_[c] = Lex{};
+        state_[c] = ContactState::kOpen;
+        oriented_kind_ = UnknownKind::kOpenNormal;
+        orient = Orientation::kUnknown;
+        break;
+      }
+      case EventKind::kLeavesApex: {
+        // One edge's flow stops: the force leaves the apex along the other edge.
+        const bool keeps_minus = ev.sign < 0.0;  // the y⁺ flow stopped
+        slip_[c] = keeps_minus ? apex_minus_[c] : apex_plus_[c];
+        apex_plus_[c] = apex_minus_[c] = Lex{};
+        state_[c] = keeps_minus ? ContactState::kSlidePositive : ContactState::kSlideNegative;
+        friction_row_sign_ = keeps_minus ? -1.0 : 1.0;  // the released edge must open up
+        orient = Orientation::kFrictionRow;
+        break;
+      }
+      case EventKind::kCloses: {
+        const Lex tangential = open_t_[c];
+        open_n_[c] = open_t_[c] = Lex{};
+        // Closed again: it slides on with its tangential displacement (holonomic), or sticks.
+        const bool slides = Frictional(ContactOf(ev.contact)) && (tangential.v0 != 0.0 || tangential.v1 != 0.0);
+        if (slides) {
+          const bool positive = tangential.v0 > 0.0 || (tangential.v0 == 0.0 && tangential.v1 > 0.0);
+          state_[c] = positive ? ContactState::kSlidePositive : ContactState::kSlideNegative;
+          slip_[c] = positive ? tangential : Lex{-tangential.v0, -tangential.v1};
+        } else {
+          state_[c] = ContactState::kStick;
+        }
+        orient = Orientation::kNormalForce;
+        break;
+      }
+      default: break;
+    }
+  }
+
+  // The value of an unknown's force equation at α (zero on the path): the force r₀ + S α
+  // on the edge, the apex or at zero, as the unknown's kind asks.
+  double EquationValue(const Unknown& u, const Eigen::VectorXd& alpha) const {
+    const RateContact& c = ContactOf(u.contact);
+    const double rn = c.r0_n + RowN(c).dot(alpha);
+    const double rt = Frictional(c) ? c.r0_t + RowT(c).dot(alpha) : 0.0;
+    switch (u.kind) {
+      case UnknownKind::kSlip: return c.mu * rn + SlipSign(u.contact) * rt;
+      case UnknownKind::kApexPlus: return c.mu * rn - rt;
+      case UnknownKind::kApexMinus: return c.mu * rn + rt;
+      case UnknownKind::kOpenNormal: return rn;
+      case UnknownKind::kOpenTangential: return rt;
+    }
+    return 0.0;
+  }
+
+  // α with the drift of its equations removed: over many events the incremental updates
+  // leave the forces of sliding and open contacts off their edges by round-off that grows
+  // with the path; the least-norm change of the unknowns puts them back.
+  Eigen::VectorXd PolishedAlpha() {
+    Eigen::VectorXd alpha = Alpha0();
+    if (unknowns_.empty()) return alpha;
+    Eigen::VectorXd g(static_cast<Eigen::Index>(unknowns_.size()));
+    for (std::size_t k = 0; k < unknowns_.size(); ++k) g[static_cast<Eigen::Index>(k)] = EquationValue(unknowns_[k], alpha);
+    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(epg_);
+    const Eigen::VectorXd du = cod.solve(g);
+    return alpha - pg_ * du;
+  }
+
+  RatePathResult& Finish(RatePathEnd end, const std::string& message, RatePathResult& out) {
+    out.end = end;
+    out.message = message;
+    out.alpha = end == RatePathEnd::kCollapse ? PolishedAlpha() : Alpha0();
+    out.t = t_.v0;
+    out.states = state_;
+    out.rates.assign(state_.size(), Eigen::Vector2d::Zero());
+    out.alpha_rate = Eigen::VectorXd::Zero(dims_);
+    if (last_dir_.size() > 0 && std::abs(last_dt_) > kRateTolerance) {
+      const double per_t = 1.0 / last_dt_;
+      out.alpha_rate = last_dalpha_ * per_t;
+      for (std::size_t k = 0; k < last_unknowns_.size(); ++k) {
+        const Unknown& u = last_unknowns_[k];
+        const double rate = last_dir_[static_cast<Eigen::Index>(k)] * per_t;
+        Eigen::Vector2d& r = out.rates[static_cast<std::size_t>(u.contact)];
+        if (u.kind == UnknownKind::kSlip) r[1] = SlipSign(u.contact) * rate;
+        else if (u.kind == UnknownKind::kOpenNormal) r[0] = rate;
+        else r[1] = rate;
+      }
+    }
+    return out;
+  }
+
+  const RateProblem& p_;
+  RatePathOptions options_;
+  Eigen::Index dims_;
+  std::vector<ContactState> state_;
+  std::vector<Lex> slip_, open_n_, open_t_;
+  std::vector<Lex> apex_plus_, apex_minus_;  // associated law at the apex: the two edges' flows
+  std::vector<Weights> weights_;
+  bool associated_ = false;
+  double weight_scale_ = 1.0;
+  UnknownKind oriented_kind_ = UnknownKind::kSlip;
+  // The linear system of the current piece, kept up to date unknown by unknown.
+  std::vector<Unknown> unknowns_;
+  std::vector<double> slip_sign_;
+  Eigen::MatrixXd pg_, e_, epg_;
+  Eigen::VectorXd ed_;
+  Eigen::MatrixXd projector_;
+  Eigen::VectorXd release_, base0_, base1_, direction_;
+  bool release_possible_ = true;
+  Lex t_;
+  double friction_row_sign_ = 1.0;
+  std::unordered_set<std::uint64_t> seen_;
+  Eigen::VectorXd last_dalpha_, last_dir_;
+  double last_dt_ = 0.0;
+  std::vector<Unknown> last_unknowns_;
+};
+
+}  // namespace
+
+RatePathResult FollowRatePath(const RateProblem& problem, const RatePathOptions& options) {
+  PathFollower follower(problem, options);
+  return follower.Run();
+}
+
+}  // namespace unjam

@@ -1,0 +1,103 @@
+// The default perturbation solve (backend "rate": the quasi-rigid loading path in the
+// self-stress space, then the step solved exactly on its contact states), against Lemke's
+// exact solve of the whole step and the LP intervals of the admissible forces.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "unjam/indeterminacy/equilibrium_system.hpp"
+#include "unjam/indeterminacy/force_bounds.hpp"
+#include "unjam/indeterminacy/shift_bounds.hpp"
+#include "unjam/io/packing_file.hpp"
+#include "unjam/protocols/perturbation.hpp"
+
+namespace unjam {
+namespace {
+
+Scene Bundled(const std::string& name) {
+  return ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/" + name + ".unjam");
+}
+
+int ContactIndex(const EquilibriumSystem& system, const PerturbationTarget& t) {
+  for (int c = 0; c < static_cast<int>(system.contacts.size()); ++c) {
+    const Contact& k = system.contacts[static_cast<std::size_t>(c)];
+    if (k.i == t.i && k.j == t.j && k.image == t.image) return c;
+  }
+  return -1;
+}
+
+// F_crit of an opening lies in its contact's interval over the admissible static networks
+// [min, max without friction] (indeterminacy/force_bounds.hpp): a quasi-static response
+// ends on a static network with the contact's force released.
+void ExpectInsideTheContactsLpInterval(const EquilibriumSystem& system, const PerturbationResult& r) {
+  const int k = ContactIndex(system, r.target);
+  ASSERT_GE(k, 0);
+  const BoundsReport b = ComputeForceBounds(system, {k}, {});
+  ASSERT_TRUE(b.bounds[0].min.ok() && b.bounds[0].max_without_friction.ok());
+  EXPECT_GE(r.f_crit, b.bounds[0].min.value - 1e-6) << r.target.i << "-" << r.target.j;
+  EXPECT_LE(r.f_crit, b.bounds[0].max_without_friction.value + 1e-6) << r.target.i << "-" << r.target.j;
+}
+
+// On the default packing (μ = 0.5) every sampled opening ends with a definite status. Where
+// the static LP finds no network that holds the packing with the contact's friction
+// released, the opening is dynamic without a solve, and Lemke's exact solve of the step
+// agrees. Where the rate solve answers, its answer is an exact solution of the step (the
+// residual at the tolerance) inside the LP interval; where Lemke also finds a quasi-static
+// one, the two agree unless the step has several solutions (then each is exact).
+TEST(RatePerturbation, DefaultPackingOpeningsAreDecidedAndAgreeWithLemke) {
+  const Scene scene = Bundled("pressure-n500-mu0.5");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const EquilibriumSystem system = BuildEquilibriumSystem(scene);
+  PerturbationOptions lemke = o;
+  lemke.backend = "lemke";
+  lemke.check_linearity = false;
+  int by_lp = 0, by_rate = 0;
+  for (const PerturbationTarget& t : SampleTargets(ContactTargets(base), 10, 4)) {
+    const PerturbationResult r = Perturb(base, t, o);
+    ASSERT_NE(r.status, "not-converged") << t.i << "-" << t.j << ": " << r.solve.message;
+    if (r.solve.backend == "static LP") {
+      ++by_lp;
+      EXPECT_EQ(r.status, "dynamic");
+      EXPECT_TRUE(std::isnan(r.f_crit));
+      EXPECT_EQ(Perturb(base, t, lemke).status, "dynamic") << t.i << "-" << t.j;
+      continue;
+    }
+    if (r.solve.backend != "rate") continue;
+    ++by_rate;
+    EXPECT_TRUE(r.resolved);
+    EXPECT_LE(r.solve.residual, 4.1e-12) << r.solve.message;
+    if (r.ok()) ExpectInsideTheContactsLpInterval(system, r);
+  }
+  EXPECT_GT(by_lp, 0);
+  EXPECT_GT(by_rate, 0);
+}
+
+// Every top and bottom shift of the small pile ends with a definite status; the top shifts
+// the rate solve answers quasi-statically lie in the shift's interval over the admissible
+// networks (indeterminacy/shift_bounds.hpp).
+TEST(RatePerturbation, SmallPileShiftsAreDecided) {
+  const Scene scene = Bundled("gravity-n100-mu0.5");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const EquilibriumSystem system = BuildEquilibriumSystem(scene);
+  std::vector<PerturbationTarget> targets = TopTargets(base);
+  const std::vector<PerturbationTarget> bottom = BottomTargets(base);
+  targets.insert(targets.end(), bottom.begin(), bottom.end());
+  int by_rate = 0;
+  for (const PerturbationTarget& t : targets) {
+    const PerturbationResult r = Perturb(base, t, o);
+    ASSERT_NE(r.status, "not-converged") << t.i << ": " << r.solve.message;
+    if (r.solve.backend != "rate" || !r.ok() || t.direction.y() > 0.0) continue;
+    ++by_rate;
+    const ShiftBoundsReport lp = ComputeShiftBounds(system, {{t.i, t.direction}}, {});
+    ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
+    EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6) << t.i;
+    EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6) << t.i;
+  }
+  EXPECT_GT(by_rate, 0);
+}
+
+}  // namespace
+}  // namespace unjam
