@@ -83,7 +83,7 @@ struct RatePathResult {
 };
 
 struct RatePathOptions {
-  int max_events = 4000;
+  int max_events = 400;
 };
 
 RatePathResult FollowRatePath(const RateProblem& problem, const RatePathOptions& options = {});
