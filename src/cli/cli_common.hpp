@@ -16,6 +16,23 @@
 
 namespace unjam::cli {
 
+// Range checks whose message names the rule, not CLI11's 300-digit bound of a double.
+inline CLI::Validator AtLeast(double lowest, bool inclusive, const std::string& rule) {
+  return CLI::Validator(
+      [=](std::string& v) {
+        double x = 0.0;
+        try {
+          x = std::stod(v);
+        } catch (const std::exception&) {
+          return "must be a number, got " + v;
+        }
+        return (inclusive ? x >= lowest : x > lowest) ? std::string() : "must be " + rule + ", got " + v;
+      },
+      "NUMBER " + rule);
+}
+inline CLI::Validator NonNegative() { return AtLeast(0.0, true, ">= 0"); }
+inline CLI::Validator Positive() { return AtLeast(0.0, false, "> 0"); }
+
 // Exit codes (docs/cli.md).
 enum ExitCode : int {
   kOk = 0,

@@ -35,7 +35,7 @@ void BoundsFlags::Register(CLI::App& a) {
   a.add_flag("--compare-perturb", compare_perturb, "also open each contact (or make each shift) with unjam perturb and compare F_crit with the LP interval");
   a.add_option("--mode", mode, "cell condition of --compare-perturb: fixed-pressure or fixed-volume")->capture_default_str();
   a.add_option("--gap-tol", gap_tolerance, "contacts with a gap up to this are contacts of the ensemble")->capture_default_str();
-  a.add_option("--threads", threads, "threads (0: all cores)")->capture_default_str();
+  a.add_option("--threads", threads, "threads (0: all cores)")->check(cli::NonNegative())->capture_default_str();
   CLI::Option* output_option = a.add_option("-o,--output", output, "CSV file, one row per contact; the bounds are recorded in OUTPUT.records.jsonl as they come, and a rerun resumes from it");
   CLI::Option* limit_option = a.add_option("--time-limit", time_limit,
                "start no LP after S seconds of this run; the bounds so far stay in OUTPUT.records.jsonl and the same command continues (contacts only)")

@@ -59,7 +59,7 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_flag("--dynamic-lp", dynamic_lp,
              "contact openings: before solving, an LP over the contact forces bounds the step's inertial forces from "
              "below; where that bound makes the step dynamic, report it dynamic (F_crit nan, no motion) without solving");
-  a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->capture_default_str();
+  a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->check(cli::NonNegative())->capture_default_str();
   solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;
   solver.Register(a);
@@ -103,6 +103,10 @@ Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
   if (f.all) return {contacts, "all"};
   if (f.sample) {
     if (*f.sample < 1) throw std::invalid_argument("--sample: need at least 1 contact");
+    if (static_cast<std::size_t>(*f.sample) > contacts.size()) {
+      throw std::invalid_argument("--sample " + std::to_string(*f.sample) + ": the packing has only " + std::to_string(contacts.size()) +
+                                  " force-carrying contacts (--all opens every one)");
+    }
     return {SampleTargets(contacts, *f.sample, f.seed), "sample " + std::to_string(*f.sample) + " seed " + std::to_string(f.seed)};
   }
   const int k = *f.contact;

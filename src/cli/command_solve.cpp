@@ -56,7 +56,7 @@ void SolveFlags::Register(CLI::App& app) {
   app.add_flag("--forces", forces, "list every contact force (.dat: every impulse)");
   app.add_option("-o,--output", output, "write the packing with the solved forces (.dat: the impulses, one contact per line)");
   app.add_option("--export-problem", export_problem, "write the contact problem as a Siconos .dat file (sparse-block storage)");
-  app.add_option("--threads", threads, "NSGS threads on a packing (0: all cores): each sweeps one domain of the contact graph, from 1000 contacts up; deterministic for a given count (docs/backends.md)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--threads", threads, "NSGS threads on a packing (0: all cores): each sweeps one domain of the contact graph, from 1000 contacts up; deterministic for a given count (docs/backends.md)")->check(cli::NonNegative())->capture_default_str();
 }
 
 int RunSolve(const SolveFlags& flags) {

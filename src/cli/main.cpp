@@ -23,6 +23,7 @@ int Run(int argc, char** argv) {
   CLI::App app{"unjam: how jammed packings of rigid frictional disks respond to local disturbances.\n"
                "Without a command, runs the main job on the bundled default packing."};
   app.require_subcommand(0, 1);
+  app.set_version_flag("--version", std::string("unjam ") + UNJAM_VERSION);
   MainJobFlags main_job;
   main_job.Register(app);
 
@@ -57,6 +58,8 @@ int Run(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

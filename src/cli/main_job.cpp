@@ -21,7 +21,7 @@ void MainJobFlags::Register(CLI::App& app) {
   app.add_option("--sample", sample, "main job: number of contacts opened")->capture_default_str();
   app.add_option("--seed", seed, "main job: seed of the contact sample")->capture_default_str();
   app.add_option("--out", out, "main job: directory for its table, field and figure")->capture_default_str();
-  app.add_option("--threads", threads, "main job: threads of the perturbations (0: all cores)")->capture_default_str();
+  app.add_option("--threads", threads, "main job: threads of the perturbations (0: all cores)")->check(cli::NonNegative())->capture_default_str();
 }
 
 namespace {

@@ -114,4 +114,14 @@ expect_code 0 "info on ipopt's forces" "$unjam" info "$work/ipopt500.unjam"
 expect_code 1 "unwritable output" "$unjam" solve "$work/stack.unjam" -o "$work/no/such/dir/out.unjam"
 ls "$work/no" >/dev/null 2>&1 && fail "output directory was created"
 
+# Range errors name the rule; every command refuses a negative thread count; --version.
+small="$src/problems/gravity-n100-mu0.5.unjam"
+for cmd in "perturb $small --top" "bounds $small" "solve $small" "pack"; do
+  expect_code 2 "$cmd --threads -1" "$unjam" $cmd --threads -1
+  grep -q -- "--threads: must be >= 0, got -1" "$work/err" || fail "$cmd --threads -1: $(head -c 300 "$work/err")"
+done
+expect_code 2 "--sample above the contacts" "$unjam" perturb "$small" --sample 100000
+grep -q -- "--sample 100000: the packing has only" "$work/err" || fail "--sample above the contacts: $(head -c 300 "$work/err")"
+"$unjam" --version | grep -q "^unjam [0-9]" || fail "--version"
+
 finish cli_basics
