@@ -95,6 +95,14 @@ int RunSolve(const SolveFlags& flags) {
     if (PeriodicY(scene.cell.periodicity)) out["pressure"] = s.equilibrium.pressure;
     if (!output.empty()) out["output"] = output;
     if (!flags.export_problem.empty()) out["exported_problem"] = flags.export_problem;
+    if (flags.forces) {  // one object per contact, in the order of the table
+      nlohmann::json forces = nlohmann::json::array();
+      for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+        const Contact& c = s.contacts[k];
+        forces.push_back({{"i", c.i}, {"j", c.j}, {"image", {c.image[0], c.image[1]}}, {"f_n", s.forces[k][0]}, {"f_t", s.forces[k][1]}});
+      }
+      out["forces"] = forces;
+    }
     std::printf("%s\n", out.dump().c_str());
   } else {
     PrintTable(scene, s, z);

@@ -122,6 +122,13 @@ for cmd in "perturb $small --top" "bounds $small" "solve $small" "pack"; do
 done
 expect_code 2 "--sample above the contacts" "$unjam" perturb "$small" --sample 100000
 grep -q -- "--sample 100000: the packing has only" "$work/err" || fail "--sample above the contacts: $(head -c 300 "$work/err")"
+"$unjam" solve "$small" --json --forces >"$work/forces.json" || fail "solve --json --forces: exit $?"
+/usr/bin/python3 - "$work/forces.json" <<'PY' || fail "solve --json --forces: the forces are in the JSON"
+import json, sys
+d = json.load(open(sys.argv[1]))
+f = d["forces"]
+assert len(f) == d["contacts"] and all({"i", "j", "image", "f_n", "f_t"} <= set(c) for c in f), d.keys()
+PY
 "$unjam" --version | grep -q "^unjam [0-9]" || fail "--version"
 
 finish cli_basics
