@@ -2,6 +2,7 @@
 // exit codes (docs/cli.md). No physics here.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -86,6 +87,10 @@ int Run(int argc, char** argv) {
     return kInputError;
   } catch (const unjam::OutputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());
+    return kInputError;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A folder or file the run reads or writes that the file system refuses: an I/O error.
+    std::fprintf(stderr, "unjam: error: %s: %s\n", e.path1().string().c_str(), e.code().message().c_str());
     return kInputError;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

@@ -129,6 +129,11 @@ d = json.load(open(sys.argv[1]))
 f = d["forces"]
 assert len(f) == d["contacts"] and all({"i", "j", "image", "f_n", "f_t"} <= set(c) for c in f), d.keys()
 PY
+# An output folder the file system refuses (a path under a file) is an I/O error, exit 1,
+# naming the path, not an internal error.
+touch "$work/plainfile"
+expect_code 1 "perturb -o under a file" "$unjam" perturb "$small" --shift-down 33 -o "$work/plainfile/out"
+grep -q "plainfile/out: Not a directory" "$work/err" || fail "perturb -o under a file: $(head -c 300 "$work/err")"
 "$unjam" --version | grep -q "^unjam [0-9]" || fail "--version"
 
 finish cli_basics
