@@ -82,6 +82,9 @@ std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, con
     }
     const int index = FindContact(s.contacts, carrying[k].i, carrying[k].j, carrying[k].image);
     if (index < 0) throw std::invalid_argument("--contacts: contact " + item + " has a gap above --gap-tol");
+    if (std::find(out.begin(), out.end(), index) != out.end()) {
+      throw std::invalid_argument("--contacts: contact " + item + " is listed twice");
+    }
     out.push_back(index);
   }
   return out;

@@ -159,6 +159,7 @@ check() {  # expected-exit description args...
 }
 check 2 "--contacts x" "$work/g5.unjam" --contacts x
 check 2 "--contacts 9" "$work/g5.unjam" --contacts 9
+check 2 "--contacts 1,1 (listed twice)" "$work/g5.unjam" --contacts 1,1
 check 2 "--lp simplex" "$work/g5.unjam" --lp simplex
 check 2 "--mode bogus" "$work/g5.unjam" --mode bogus
 check 1 "missing file" "$work/none.unjam"
