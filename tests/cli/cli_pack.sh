@@ -187,4 +187,12 @@ release_lock
 [ "$code" -eq 1 ] && grep -q "held.unjam.checkpoint is being written by another run .*held.unjam.checkpoint.lock" "$work/held.err" || fail "pack on a locked checkpoint: exit $code, $(cat "$work/held.err")"
 ls "$work" | grep -q "^held.unjam$\|^held.unjam.checkpoint$" && fail "pack on a locked checkpoint wrote: $(ls "$work")"
 
+# A malformed checkpoint is an input error naming the file (exit 1), never ignored, and it
+# stays as it was.
+printf 'garbage\n' >"$work/bad.checkpoint"
+"$unjam" pack --protocol pressure --n 10 --checkpoint "$work/bad.checkpoint" -o "$work/bad.unjam" >/dev/null 2>"$work/bad.err"; code=$?
+[ "$code" -eq 1 ] && grep -q "bad.checkpoint: not a checkpoint" "$work/bad.err" || fail "malformed checkpoint: exit $code, $(head -c 300 "$work/bad.err")"
+[ "$(cat "$work/bad.checkpoint")" = garbage ] || fail "malformed checkpoint was overwritten"
+[ ! -e "$work/bad.unjam" ] || fail "malformed checkpoint: a packing was written"
+
 finish cli_pack
