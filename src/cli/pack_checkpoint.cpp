@@ -8,6 +8,7 @@
 
 #include "unjam/io/checkpoint.hpp"
 #include "unjam/io/packing_file.hpp"
+#include "unjam/io/read_text.hpp"
 
 namespace unjam::cli {
 
@@ -52,11 +53,7 @@ PackCheckpointer::PackCheckpointer(std::string path, nlohmann::json parameters, 
 
 RelaxReport PackCheckpointer::Resume(Simulation& sim) {
   if (!enabled_ || !std::filesystem::exists(path_)) return {};
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) throw InputError(path_, 0, "cannot read the checkpoint");
-  std::ostringstream text;
-  text << in.rdbuf();
-  const Checkpoint c = ParseCheckpoint(text.str(), path_);
+  const Checkpoint c = ParseCheckpoint(ReadInputText(path_), path_);
   if (c.parameters != parameters_) {
     std::string differences;
     for (const auto& [key, value] : parameters_.items()) {

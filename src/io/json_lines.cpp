@@ -6,18 +6,13 @@
 #include <stdexcept>
 
 #include "unjam/io/packing_file.hpp"
+#include "unjam/io/read_text.hpp"
 
 namespace unjam {
 
 namespace {
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "cannot open for reading");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+std::string ReadText(const std::filesystem::path& path) { return ReadInputText(path); }
 
 // The lines of `text`, read from `path` (named in errors).
 JsonLines ParseJsonLines(const std::string& text, const std::filesystem::path& path) {

@@ -14,6 +14,7 @@
 
 #include "packing_checks.hpp"
 #include "text_fields.hpp"
+#include "unjam/io/read_text.hpp"
 
 namespace unjam {
 
@@ -370,18 +371,7 @@ Scene ParsePacking(std::string_view text, const std::string& name, const ReadOpt
 }
 
 Scene ReadPacking(const std::filesystem::path& path, const ReadOptions& options) {
-  const std::string name = path.string();
-  std::FILE* file = std::fopen(name.c_str(), "rb");
-  if (file == nullptr) throw InputError(name, 0, std::string("cannot open: ") + std::strerror(errno));
-  std::string text;
-  char buffer[1 << 16];
-  std::size_t got = 0;
-  while ((got = std::fread(buffer, 1, sizeof(buffer), file)) > 0) text.append(buffer, got);
-  const bool failed = std::ferror(file) != 0;
-  const int error = errno;
-  std::fclose(file);
-  if (failed) throw InputError(name, 0, std::string("cannot read: ") + std::strerror(error));
-  return ParsePacking(text, name, options);
+  return ParsePacking(ReadInputText(path), path.string(), options);
 }
 
 }  // namespace unjam

@@ -10,6 +10,7 @@
 #include "text_fields.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/siconos_problem.hpp"
+#include "unjam/io/read_text.hpp"
 
 namespace unjam {
 
@@ -377,11 +378,7 @@ DelassusProblem ParseSiconosProblem(std::string_view text, const std::string& na
 }
 
 DelassusProblem ReadSiconosProblem(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseSiconosProblem(text.str(), path.string());
+  return ParseSiconosProblem(ReadInputText(path), path.string());
 }
 
 }  // namespace unjam
