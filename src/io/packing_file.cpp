@@ -3,11 +3,8 @@
 #include "unjam/io/packing_file.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <climits>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
 #include <map>
 #include <set>
 #include <utility>

@@ -3,8 +3,6 @@
 // whitespace-separated and line breaks carry no meaning, except in the sparse storage (2),
 // which Siconos parses line by line and so do we. Every error names the file and the line.
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include "text_fields.hpp"

@@ -1,6 +1,5 @@
 // Tests for src/io/atomic_write.cpp
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -8,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "temp_dir_test.hpp"
 #include "unjam/io/packing_file.hpp"
 
 namespace unjam {
@@ -15,15 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class AtomicWrite : public ::testing::Test {
+class AtomicWrite : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("unjam_atomic_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  AtomicWrite() : TempDirTest("unjam_atomic_") {}
 
   // Every entry of the test directory, by name.
   std::vector<std::string> Entries() const {
@@ -39,8 +33,6 @@ class AtomicWrite : public ::testing::Test {
     out << in.rdbuf();
     return out.str();
   }
-
-  fs::path dir_;
 };
 
 TEST_F(AtomicWrite, WritesAndReplacesLeavingNoTemporary) {

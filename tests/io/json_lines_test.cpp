@@ -8,27 +8,21 @@
 
 #include <gtest/gtest.h>
 
+#include "temp_dir_test.hpp"
 #include "unjam/io/json_lines.hpp"
 #include "unjam/io/packing_file.hpp"
 
 namespace unjam {
 namespace {
 
-class JsonLinesTest : public ::testing::Test {
+class JsonLinesTest : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / ("unjam-json-lines-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                                                     "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
+  JsonLinesTest() : TempDirTest("unjam-json-lines-") {}
   std::filesystem::path Write(const std::string& name, const std::string& text) const {
     const std::filesystem::path path = dir_ / name;
     std::ofstream(path, std::ios::binary) << text;
     return path;
   }
-  std::filesystem::path dir_;
 };
 
 TEST_F(JsonLinesTest, ATornLastLineIsIgnoredAndNotCounted) {

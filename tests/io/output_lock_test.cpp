@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "temp_dir_test.hpp"
 #include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 
@@ -17,15 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class OutputLockTest : public ::testing::Test {
+class OutputLockTest : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("unjam_lock_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  OutputLockTest() : TempDirTest("unjam_lock_") {}
 
   // The message of the OutputError that taking `path` throws, or "" if it is taken.
   static std::string Refusal(const fs::path& path) {
@@ -36,8 +31,6 @@ class OutputLockTest : public ::testing::Test {
     }
     return "";
   }
-
-  fs::path dir_;
 };
 
 TEST_F(OutputLockTest, ASecondHolderIsRefusedNamingTheOutputTheLockAndTheFirst) {

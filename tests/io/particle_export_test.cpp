@@ -2,7 +2,6 @@
 #include "unjam/io/particle_export.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -12,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir_test.hpp"
 #include "test_scenes.hpp"
 #include "unjam/io/packing_file.hpp"
 
@@ -21,15 +21,9 @@ namespace {
 namespace fs = std::filesystem;
 using testing::Disk;
 
-class ParticleExport : public ::testing::Test {
+class ParticleExport : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("unjam_export_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  ParticleExport() : TempDirTest("unjam_export_") {}
 
   static std::vector<std::string> Lines(const fs::path& path) {
     std::ifstream in(path);
@@ -61,8 +55,6 @@ class ParticleExport : public ::testing::Test {
     field.force_change = {ContactForce{0, 2, {0, 0}, 0.75, 0.0}, ContactForce{1, 2, {0, 0}, 9.0, 0.0}};
     return field;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(ParticleExport, VtkHoldsPointsLinesAndData) {
