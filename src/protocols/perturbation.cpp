@@ -68,13 +68,12 @@ std::string StepBackend(const PerturbationOptions& options, const Scene& scene) 
   // unloaded solution (F_crit ≈ 0, docs/perturbations.md); newton's proximal steps stay
   // nearest the static forces.
   if (!scene.effects.Frictional() || FixedVolumeCell(options, scene)) return "newton";
-  PerturbationOptions automatic = options;
-  automatic.backend = "auto";
-  return AutoLeavesLemkeForSize(automatic, scene) ? "newton" : "lemke";
+  return AutoLeavesLemkeForSize(options, scene) ? "newton" : "lemke";
 }
 
 bool AutoLeavesLemkeForSize(const PerturbationOptions& options, const Scene& scene) {
-  if (options.backend != "auto" || !scene.effects.Frictional() || FixedVolumeCell(options, scene)) return false;
+  const bool automatic = options.backend == "auto" || options.backend == "rate";  // "rate": auto, resolved
+  if (!automatic || !scene.effects.Frictional() || FixedVolumeCell(options, scene)) return false;
   // An option only lemke reads says which backend the user means, whatever the size.
   if (LemkeOptionsGiven(options)) return false;
   // Lemke's paths lengthen faster than the packing grows, and its default budget (100 000
@@ -567,9 +566,6 @@ std::string PathAccount(const RatePathResult& path) {
   return text;
 }
 
-// The perturbation solved as the rigid limit of stiff contacts (perturbation_rate.hpp):
-// its answer, or none where the path gives no definite one (`account` then says why, and
-// the step is solved by a backend).
 void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled, PerturbationResult& r);
 
 std::string FormatResidual(double residual) {
@@ -585,10 +581,9 @@ void MeasureOnPattern(const PerturbationBase& base, const RateBase& rb, const Ra
   SolveResult step = StepOnPattern(rb, rt, path, posed);
   step.report.iterations = path.events;
   step.report.message = account + "; the step on its pattern: residual " + FormatResidual(step.report.residual);
-  const Eigen::VectorXd impulses = step.impulses;
   StaticSolution s = SolutionOf(perturbed, posed, step, options.dt);
   Measure(base, options, solve, s, r);
-  const int closing = ContactClosedAt(posed, impulses, kLinearityGapFactor);
+  const int closing = ContactClosedAt(posed, step.impulses, kLinearityGapFactor);
   if (r.status == "ok" && closing >= 0) {
     const Contact& c = posed.contacts[static_cast<std::size_t>(posed.assembled.source_contact[static_cast<std::size_t>(closing)])];
     r.linear = false;
@@ -623,6 +618,9 @@ void CheckLinearityOnPattern(const PerturbationBase& base, const PerturbationTar
   JudgeLinearity(base, check, r);
 }
 
+// The perturbation solved as the rigid limit of stiff contacts (perturbation_rate.hpp):
+// its answer, or none where the path gives no definite one (`account` then says why, and
+// the step is solved by a backend).
 std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base, const PerturbationTarget& target,
                                                 const PerturbationOptions& options, const StaticSolveOptions& solve,
                                                 const Scene& perturbed, const StaticProblem& posed, PerturbationResult r,
@@ -726,7 +724,7 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   const auto start = Clock::now();
   StaticSolution answer;
   PerturbationResult r = PerturbOnce(base, target, options, nullptr, &answer);
-  // A rate answer is linear in ξ by construction, but for the gaps it closes (checked).
+  // A rate answer had its own check at 10ξ, on its contact states (CheckLinearityOnPattern).
   if (!options.check_linearity || !r.ok() || r.solve.backend == "rate") return r;
   PerturbationOptions scaled = options;
   scaled.gap *= kLinearityGapFactor;
