@@ -3,9 +3,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "output_paths.hpp"
+#include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/siconos_problem.hpp"
 #include "unjam/protocols/perturbation.hpp"
@@ -71,7 +73,7 @@ std::string Csv(const std::vector<ComparisonRun>& runs) {
 }  // namespace
 
 int RunCompare(const CompareFlags& f) {
-  RefuseOutputDirectoryOverInput("-o", f.output_dir, {"compare.csv", "summary.json", "work-precision.png", "profiles.png"},
+  RefuseOutputDirectoryOverInput("-o", f.output_dir, {"compare.csv", "summary.json", "work-precision.png", "profiles.png", ".lock"},
                                  {f.files.begin(), f.files.end()});
   ComparisonOptions o;
   o.backends = f.backends.empty() ? AvailableBackends() : f.backends;
@@ -86,6 +88,13 @@ int RunCompare(const CompareFlags& f) {
   MakeSolver(o.reference_backend);
   std::vector<ComparisonProblem> problems;
   for (const std::string& path : f.files) AddProblems(path, f, problems);
+  // The output is claimed before any solve: an output that cannot be written, or that
+  // another run writes, is refused at once rather than after the whole comparison.
+  std::optional<OutputLock> lock;
+  if (!f.output_dir.empty()) {
+    std::filesystem::create_directories(f.output_dir);
+    lock.emplace(std::filesystem::path(f.output_dir) / ".lock", f.output_dir);
+  }
 
   std::vector<ComparisonRun> runs;
   const std::vector<ComparisonReference> refs = CompareBackends(problems, o, [&](const ComparisonRun& r) {
@@ -103,7 +112,6 @@ int RunCompare(const CompareFlags& f) {
   int rc = kOk;
   if (!f.output_dir.empty()) {
     const std::filesystem::path dir = f.output_dir;
-    std::filesystem::create_directories(dir);
     WriteFileAtomically(dir / "compare.csv", Csv(runs));
     WriteFileAtomically(dir / "summary.json", out.dump(2) + "\n");
     if (!RunPlotScript("plot_compare.py", {dir.string()})) {

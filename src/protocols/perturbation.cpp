@@ -901,7 +901,16 @@ void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarg
     PerturbationResult r = std::move(*results[k]);
     results[k].reset();
     lock.unlock();
-    on_result(k, r);
+    try {
+      on_result(k, r);
+    } catch (...) {
+      // The caller could not take the result (e.g. its records file): stop the workers
+      // after the perturbations they are solving, join them, and pass the error on.
+      std::lock_guard<std::mutex> relock(mutex);
+      if (!failure) failure = std::current_exception();
+      closed = true;
+      break;
+    }
   }
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);

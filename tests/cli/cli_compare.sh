@@ -36,4 +36,17 @@ done
 "$unjam" compare "$work/missing.dat" -o "$work/m" >/dev/null 2>"$work/err"; rc=$?
 [ $rc = 1 ] && [ ! -e "$work/m/compare.csv" ] || fail "missing file: exit $rc"
 
+# The output is claimed before any solve: another run's lock, or a path that cannot be a
+# directory, is refused at once, with nothing written.
+mkdir -p "$work/held"
+hold_lock "$work/held/.lock"
+expect_code 1 "compare over a held output" "$unjam" compare "$src/problems/gravity-n100-mu0.5.unjam" --openings 3 -o "$work/held"
+grep -q "held" "$work/err" || fail "held output: message names no output: $(cat "$work/err")"
+[ ! -e "$work/held/compare.csv" ] || fail "held output: compare.csv written"
+grep -q "compare gravity" "$work/err" && fail "held output: solved before refusing"
+release_lock
+touch "$work/plainfile"
+expect_code 1 "compare into a file's subdirectory" "$unjam" compare "$src/problems/siconos/one-contact-slide.dat" -o "$work/plainfile/c"
+grep -q "plainfile" "$work/err" || fail "unwritable output: message names no path: $(cat "$work/err")"
+
 finish cli_compare

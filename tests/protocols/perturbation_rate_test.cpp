@@ -1,6 +1,7 @@
 // The default perturbation solve (backend "rate": the quasi-rigid loading path in the
 // self-stress space, then the step solved exactly on its contact states), against Lemke's
 // exact solve of the whole step and the LP intervals of the admissible forces.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "unjam/indeterminacy/shift_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
+#include "protocols/perturbation_rate.hpp"
 
 namespace unjam {
 namespace {
@@ -72,6 +74,33 @@ TEST(RatePerturbation, DefaultPackingOpeningsAreDecidedAndAgreeWithLemke) {
   }
   EXPECT_GT(by_lp, 0);
   EXPECT_GT(by_rate, 0);
+}
+
+// The static LP's cutting planes (a relaxation over the rows nearest to binding, grown by
+// the rows its point violates) decide every opening of the default packing as the LP over
+// every row does: the fast path against the whole LP, on all 643 openings.
+TEST(RatePerturbation, StaticLpCuttingPlanesAgreeWithTheWholeLp) {
+  const Scene scene = Bundled("pressure-n500-mu0.5");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  StaticSolveOptions step;
+  step.dt = o.dt;
+  step.closed_gap_tolerance = o.closed_gap_tolerance;
+  step.margin = std::max(1e-6, 1000.0 * o.gap);  // the perturbation step's detection margin
+  const RateBase rb = PrepareRateBase(base, step);
+  int infeasible = 0, openings = 0;
+  for (const PerturbationTarget& t : ContactTargets(base)) {
+    const RateTarget rt = PoseRateTarget(rb, t, o);
+    ASSERT_TRUE(rt.refused.empty()) << rt.refused;
+    const RateStaticLp fast = SolveRateStaticLp(rt.problem);
+    const RateStaticLp whole = SolveRateStaticLp(rt.problem, {.every_row = true});
+    ASSERT_TRUE(fast.decided && whole.decided) << fast.message << " / " << whole.message;
+    EXPECT_EQ(fast.feasible, whole.feasible) << t.i << "-" << t.j << ": " << fast.message << " / " << whole.message;
+    infeasible += fast.feasible ? 0 : 1;
+    ++openings;
+  }
+  EXPECT_EQ(openings, 643);
+  EXPECT_EQ(infeasible, 367);  // the openings Lemke's full solve of the step calls dynamic
 }
 
 // Every top and bottom shift of the small pile ends with a definite status; the top shifts

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <stdexcept>
 
 #include <Eigen/LU>
 #include <gtest/gtest.h>
@@ -352,6 +353,30 @@ TEST(Perturbation, AsFinishedReportsEveryTargetOnceWithTheOrderedResults) {
   });
   ASSERT_EQ(finished.size(), targets.size());
   for (int k = 0; k < static_cast<int>(targets.size()); ++k) EXPECT_EQ(finished[k], ordered[k]) << k;
+}
+
+// A caller that cannot take a result (its records file fails) gets its error back from
+// every schedule, after the workers are joined; no perturbation is reported after it.
+TEST(Perturbation, AnErrorOfTheCallerIsPassedOnAndStopsTheRun) {
+  const Scene scene = VGroove(1.3);
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const std::vector<PerturbationTarget> targets(6, Opening(0, 2));
+  for (const int threads : {1, 2}) {
+    for (const bool as_finished : {false, true}) {
+      PerturbSchedule schedule;
+      schedule.threads = threads;
+      schedule.as_finished = as_finished;
+      int reported = 0;
+      EXPECT_THROW(PerturbAll(base, targets, o, schedule,
+                              [&](int, const PerturbationResult&) {
+                                ++reported;
+                                throw std::runtime_error("disk full");
+                              }),
+                   std::runtime_error);
+      EXPECT_EQ(reported, 1) << threads << " threads, as finished " << as_finished;
+    }
+  }
 }
 
 // A run's budget (--time-limit): no target starts once it is spent, in either order.

@@ -95,15 +95,22 @@ namespace unjam {
 // The static LP of a rate problem: is there a network of admissible forces (every contact
 // but the held one in its Coulomb cone, r_n ≥ 0) in which the released forces vanish? In
 // the basis' coordinates: D free variables α, two rows per frictional contact (one
-// without friction) and one per released force (COIN-OR CLP, dual simplex). Where there
-// is none, no static network holds the perturbed packing: the step is dynamic whatever
-// else happens (docs/perturbations.md).
+// without friction) and one per released force (COIN-OR CLP). Solved by cutting planes:
+// first over the 4D rows nearest to binding at the static forces (a relaxation: no
+// feasible point there proves none exists), then with the rows its point violates added,
+// up to 8 rounds, then over every row. An infeasibility found by the dual simplex counts
+// only with a Farkas certificate checked in double precision. Where there is no network,
+// no static network holds the perturbed packing: the step is dynamic whatever else
+// happens (docs/perturbations.md).
 struct RateStaticLp {
   bool decided = false;     // CLP ended optimal or proven infeasible
   bool feasible = false;
   int iterations = 0;
   std::string message;
 };
-RateStaticLp SolveRateStaticLp(const RateProblem& problem);
+struct RateStaticLpOptions {
+  bool every_row = false;   // skip the cutting planes: one LP over every row (a cross-check)
+};
+RateStaticLp SolveRateStaticLp(const RateProblem& problem, const RateStaticLpOptions& options = {});
 
 }  // namespace unjam
