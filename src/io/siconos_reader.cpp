@@ -344,9 +344,21 @@ Eigen::VectorXd ReadVector(Scanner& s, int size, const std::string& what) {
   return v;
 }
 
-}  // namespace
+// After the friction coefficients, Siconos before July 2010 (svn r2135, "delete isComplete
+// from the problem structure") wrote the problem's `isComplete` member with "%d\n" on a line
+// of its own: 1, or 0 for a problem built by hand whose author had not set it (no solver
+// ever checked it). Siconos' reader still stops after the last mu, so such files remain in
+// its test collection (FrictionContactProblem00031.dat and others). That flag, 0 or 1 alone
+// on the line after the last mu and last in the file, is read and ignored; anything else
+// there is refused.
+void ReadCompletenessFlag(Scanner& s, int last_mu_line) {
+  if (s.AtEnd()) return;
+  const Token flag = s.Next("");
+  const bool is_flag = (flag.text == "0" || flag.text == "1") && flag.line > last_mu_line && s.AtEnd();
+  if (!is_flag) s.Fail(flag.line, "unexpected data after the friction coefficients: " + io_internal::Quote(flag.text));
+}
 
-DelassusProblem ParseSiconosProblem(std::string_view text, const std::string& name) {
+DelassusProblem ParseLocalProblem(std::string_view text, const std::string& name) {
   Scanner s(text, name);
   int line = 0;
   const long long dimension = s.Integer("dimension", 0, kMaxIndex, &line);
@@ -357,8 +369,10 @@ DelassusProblem ParseSiconosProblem(std::string_view text, const std::string& na
   p.w = ReadMatrix(s, static_cast<int>(nc));
   p.q = ReadVector(s, 2 * static_cast<int>(nc), "q");
   p.laws.resize(nc);
+  int last_mu_line = 0;
   for (int k = 0; k < nc; ++k) {
     const Token t = s.Next("mu[" + std::to_string(k) + "]");
+    last_mu_line = t.line;
     double mu = 0.0;
     try {
       mu = io_internal::ParseDouble(t.text, "mu[" + std::to_string(k) + "]");
@@ -368,11 +382,56 @@ DelassusProblem ParseSiconosProblem(std::string_view text, const std::string& na
     if (mu < 0.0) s.Fail(t.line, "mu[" + std::to_string(k) + "] = " + io_internal::DoubleToString(mu) + ": a friction coefficient must be >= 0");
     p.laws[k].mu = mu;
   }
-  if (!s.AtEnd()) {
-    const Token extra = s.Next("");
-    s.Fail(extra.line, "unexpected data after the friction coefficients: " + io_internal::Quote(extra.text));
-  }
+  ReadCompletenessFlag(s, last_mu_line);
   return p;
+}
+
+// Siconos' global form (globalFrictionContact_printInFile): dimension, nc, M (n x n), H
+// (n x dimension·nc), q (n), b (dimension·nc), mu (nc), for M v = q + H r, u = Hᵀ v + b. Its
+// start can pass for a local problem (nc = 0, or M of size 2nc), so it is looked for only
+// once reading the local form has failed: true with the message to give instead, if M
+// (dense or sparse storage; a sparse-block M is not recognised) is followed by the header
+// of an n x dimension·nc matrix H.
+bool LooksGlobal(std::string_view text, const std::string& name, int& line, std::string& message) {
+  try {
+    Scanner s(text, name);
+    const long long dimension = s.Integer("dimension", 2, 3);
+    const long long nc = s.Integer("number of contacts", 0, kMaxIndex / 3);
+    int m_line = 0;
+    const long long storage = s.Integer("storage of M", 0, 2, &m_line);
+    const long long n = s.Integer("rows of M", 1, kMaxIndex);
+    if (s.Integer("columns of M", 0, kMaxIndex) != n || storage == 1) return false;
+    Triplets ignored;
+    if (storage == 0) ReadDense(s, static_cast<int>(n), ignored);
+    else ReadSparse(s, static_cast<int>(n), ignored);
+    int h_line = 0;
+    s.Integer("storage of H", 0, 2, &h_line);
+    const long long h_rows = s.Integer("rows of H", 0, kMaxIndex);
+    const long long h_cols = s.Integer("columns of H", 0, kMaxIndex);
+    if (h_rows != n || h_cols != dimension * nc) return false;
+    line = m_line;
+    message = "global-form friction-contact problem (M, H, q, b): M is " + std::to_string(n) + " x " + std::to_string(n) + ", H (line " +
+              std::to_string(h_line) + ") is " + std::to_string(h_rows) + " x " + std::to_string(h_cols) + ", " + std::to_string(nc) +
+              " contacts in dimension " + std::to_string(dimension) +
+              "; it is not read: use the local form, W = H^T M^-1 H and q = H^T M^-1 q + b (Siconos' "
+              "globalFrictionContact_reformulation_FrictionContact)";
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+DelassusProblem ParseSiconosProblem(std::string_view text, const std::string& name) {
+  try {
+    return ParseLocalProblem(text, name);
+  } catch (const InputError&) {
+    int line = 0;
+    std::string message;
+    if (LooksGlobal(text, name, line, message)) throw InputError(name, line, message);
+    throw;
+  }
 }
 
 DelassusProblem ReadSiconosProblem(const std::filesystem::path& path) {
