@@ -83,6 +83,55 @@ TEST(SiconosCollection, EveryFileIsReadAndSolvedHonestly) {
   }
 }
 
+// Lemke's exact pivoting solves every file of the collection to round-off. Left out:
+// fc2d_granularflowonwall_00667_00000, which it also solves (residual 1.5e-15) but in 26 s.
+TEST(SiconosCollection, LemkeSolvesEveryFileToRoundOff) {
+  for (const fs::path& file : CollectionFiles()) {
+    const std::string name = file.filename().string();
+    if (name.rfind("fc2d_granularflowonwall", 0) == 0) continue;
+    SCOPED_TRACE(name);
+    const DelassusProblem p = ReadSiconosProblem(file);
+    SolverOptions o;
+    o.tolerance = 1e-10;
+    const SolveResult r = MakeSolver("lemke")->SolveDelassus(p, o);
+    EXPECT_TRUE(r.report.converged()) << r.report.message;
+    EXPECT_LE(ComputeResidual(p, r.impulses).residual, 1e-12);
+  }
+}
+
+// The De Saxcé fixed point of ipopt and nlopt: where it cannot reach the tolerance it says
+// so (iteration limit, residual above the tolerance), where W is not symmetric it refuses
+// the problem up front, and where it converges its residual is honest.
+TEST(SiconosCollection, ConvexBackendsSayWhereTheyStallOrRefuse) {
+  struct Case {
+    const char* file;
+    const char* backend;
+    SolveStatus status;
+  };
+  const std::vector<Case> cases = {
+      {"FrictionContactProblem00237.dat", "ipopt", SolveStatus::kIterationLimit},
+      {"FrictionContactProblem00237.dat", "nlopt", SolveStatus::kIterationLimit},
+      {"FrictionContactProblem00727.dat", "ipopt", SolveStatus::kIterationLimit},
+      {"FrictionContactProblem00727.dat", "nlopt", SolveStatus::kIterationLimit},
+      {"FC2D_SliderCrankLagrangian00000.dat", "ipopt", SolveStatus::kUnsupported},
+      {"FC2D_SliderCrankLagrangian00000.dat", "nlopt", SolveStatus::kUnsupported},
+      {"FrictionContactProblem00374.dat", "ipopt", SolveStatus::kConverged},
+      {"FrictionContactProblem00374.dat", "nlopt", SolveStatus::kConverged},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::string(c.file) + " " + c.backend);
+    const DelassusProblem p = ReadSiconosProblem(kCollection / c.file);
+    SolverOptions o;
+    o.tolerance = 1e-10;
+    const SolveResult r = MakeSolver(c.backend)->SolveDelassus(p, o);
+    EXPECT_EQ(r.report.status, c.status) << r.report.message;
+    ASSERT_TRUE(AllFinite(r.impulses));
+    const double residual = ComputeResidual(p, r.impulses).residual;
+    if (c.status == SolveStatus::kConverged) EXPECT_LE(residual, o.tolerance);
+    if (c.status == SolveStatus::kIterationLimit) EXPECT_GT(residual, 1e-3);  // a stall, not a near miss
+  }
+}
+
 // A 1-contact dense problem, mu = 0.5 on line 10.
 const std::string kProblem = "2\n1\n0\n2\n2\n2 2\n2 0\n0 4\n-1 0.4\n0.5\n";
 
