@@ -142,7 +142,7 @@ class PathFollower {
     for (Eigen::Index k = 0; k < rows.rows(); ++k) {
       const int r = p_.released_rows[static_cast<std::size_t>(k)];
       rows.row(k) = p_.basis.row(r);
-      target[k] = -StaticImpulse(r);
+      target[k] = -p_.StaticImpulse(r);
     }
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(rows.transpose());
     qr.setThreshold(1e-10);
@@ -150,14 +150,6 @@ class PathFollower {
     projector_ -= q * q.transpose();
     release_ = rows.completeOrthogonalDecomposition().solve(target);
     release_possible_ = (rows * release_ - target).norm() <= 1e-9 * std::max(1.0, target.norm());
-  }
-
-  double StaticImpulse(int row) const {
-    for (const RateContact& c : p_.contacts) {
-      if (c.row_n == row) return c.r0_n;
-      if (c.row_t == row) return c.r0_t;
-    }
-    return 0.0;
   }
 
   bool Frictional(const RateContact& c) const { return c.row_t >= 0; }
@@ -597,6 +589,14 @@ class PathFollower {
 };
 
 }  // namespace
+
+double RateProblem::StaticImpulse(int row) const {
+  for (const RateContact& c : contacts) {
+    if (c.row_n == row) return c.r0_n;
+    if (c.row_t == row) return c.r0_t;
+  }
+  return 0.0;
+}
 
 RatePathResult FollowRatePath(const RateProblem& problem, const RatePathOptions& options) {
   PathFollower follower(problem, options);

@@ -24,14 +24,6 @@ struct StaticRows {
   Eigen::VectorXd e_value;
 };
 
-double StaticImpulse(const RateProblem& p, int row) {
-  for (const RateContact& c : p.contacts) {
-    if (c.row_n == row) return c.r0_n;
-    if (c.row_t == row) return c.r0_t;
-  }
-  return 0.0;
-}
-
 StaticRows RowsOf(const RateProblem& p) {
   std::vector<Eigen::VectorXd> rows;
   std::vector<double> lower;
@@ -60,7 +52,7 @@ StaticRows RowsOf(const RateProblem& p) {
   out.e_value.resize(out.e.rows());
   for (std::size_t k = 0; k < p.released_rows.size(); ++k) {
     out.e.row(static_cast<Eigen::Index>(k)) = p.basis.row(p.released_rows[k]);
-    out.e_value[static_cast<Eigen::Index>(k)] = -StaticImpulse(p, p.released_rows[k]);
+    out.e_value[static_cast<Eigen::Index>(k)] = -p.StaticImpulse(p.released_rows[k]);
   }
   return out;
 }
@@ -82,12 +74,13 @@ bool FarkasCertifies(const lp::LpTriplets& lp, const ClpSimplex& model) {
       scale += std::abs(y[lp.rows[k]] * lp.values[k]);
     }
     double bound = 0.0, size = 0.0;
+    const double largest = y.cwiseAbs().maxCoeff();
     bool finite = true;
     for (Eigen::Index i = 0; i < y.size(); ++i) {
       const double limit = y[i] > 0.0 ? lp.row_lower[static_cast<std::size_t>(i)] : lp.row_upper[static_cast<std::size_t>(i)];
       if (y[i] == 0.0) continue;
       if (!std::isfinite(limit)) {
-        finite = finite && std::abs(y[i]) <= 1e-12 * y.cwiseAbs().maxCoeff();
+        finite = finite && std::abs(y[i]) <= 1e-12 * largest;
         continue;
       }
       bound += y[i] * limit;
@@ -164,13 +157,14 @@ RateStaticLp SolveRateStaticLp(const RateProblem& p, const RateStaticLpOptions& 
   // one. Otherwise the rows its point violates most join the subset, up to kRounds times;
   // then the LP over every row decides.
   constexpr int kRounds = 8;
-  std::vector<int> subset = NearestRows(rows, static_cast<std::size_t>(4 * dims));
+  std::vector<int> subset;
+  if (!options.every_row) subset = NearestRows(rows, static_cast<std::size_t>(4 * dims));
   std::vector<char> in_subset(static_cast<std::size_t>(rows.a.rows()), 0);
   for (int r : subset) in_subset[static_cast<std::size_t>(r)] = 1;
   Verdict v;
   int iterations = 0;
   bool proven = false;
-  for (int round = 0; round < kRounds && !proven && !options.every_row; ++round) {
+  for (int round = 0; round < kRounds && !subset.empty(); ++round) {
     v = SolveOver(rows, subset);
     iterations += v.lp.iterations;
     if (!v.lp.decided) break;
@@ -184,6 +178,9 @@ RateStaticLp SolveRateStaticLp(const RateProblem& p, const RateStaticLpOptions& 
       if (violation[r] < -kTolerance && in_subset[static_cast<std::size_t>(r)] == 0) violated.push_back(static_cast<int>(r));
     }
     proven = violation.minCoeff() >= -kTolerance;
+    // Done, or only rows of the subset itself are off (by CLP's scaled tolerance): the
+    // same LP again would change nothing, the LP over every row decides.
+    if (proven || violated.empty()) break;
     const std::size_t take = std::min(violated.size(), static_cast<std::size_t>(4 * dims));
     std::partial_sort(violated.begin(), violated.begin() + static_cast<std::ptrdiff_t>(take), violated.end(),
                       [&](int x, int y) { return violation[x] < violation[y]; });

@@ -52,6 +52,10 @@ struct RateProblem {
   // their forces are brought to zero first (phase 1), then stay there.
   std::vector<int> released_rows;
   Eigen::VectorXd driver;          // d = Sᵀ(prescribed relative displacement per unit t)
+
+  // The static impulse of a row of S (a contact's normal or tangential one; 0 for a row
+  // that is no contact's, e.g. a released balance).
+  double StaticImpulse(int row) const;
 };
 
 enum class RatePathEnd {
