@@ -11,8 +11,6 @@ namespace unjam {
 
 namespace {
 
-std::string ReadText(const std::filesystem::path& path) { return ReadInputText(path); }
-
 // The lines of `text`, read from `path` (named in errors).
 JsonLines ParseJsonLines(const std::string& text, const std::filesystem::path& path) {
   JsonLines out;
@@ -43,7 +41,7 @@ JsonLines ParseJsonLines(const std::string& text, const std::filesystem::path& p
 
 }  // namespace
 
-JsonLines ReadJsonLines(const std::filesystem::path& path) { return ParseJsonLines(ReadText(path), path); }
+JsonLines ReadJsonLines(const std::filesystem::path& path) { return ParseJsonLines(ReadInputText(path), path); }
 
 bool HasHeaderLine(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -112,7 +110,7 @@ void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& hea
       std::filesystem::remove(from);
       continue;
     }
-    std::string text = ReadText(from);
+    std::string text = ReadInputText(from);
     const JsonLines file = ParseJsonLines(text, from);
     RequireHeader(from, file.header, header, remedy);
     text.resize(static_cast<std::size_t>(file.valid_bytes));
