@@ -40,6 +40,7 @@ enum ExitCode : int {
   kUsageError = 2,        // unknown option, bad option value
   kNotConverged = 3,      // --require-converged and the solver did not converge
   kInternalError = 4,     // anything else (a bug: please report)
+  kCheckFailed = 5,       // `unjam check` found a silent failure (docs/stability.md)
 };
 
 // Solver options as the CLI spells them, shared by every command that solves.

@@ -109,6 +109,12 @@ int RunSolve(const SolveFlags& flags) {
     if (!flags.export_problem.empty()) std::printf("exported problem  %s\n", flags.export_problem.c_str());
     if (flags.forces) PrintForces(s);
   }
+  if (s.report.converged() && s.equilibrium.residual > kStaticEquilibriumTolerance && scene.effects.prescribed_motion.empty()) {
+    std::fprintf(stderr,
+                 "unjam solve: warning: converged to the residual, but the forces miss equilibrium by %.3e of the mean contact "
+                 "force: the state is not static, or the problem is ill-conditioned and needs a smaller --tol (docs/residual.md)\n",
+                 s.equilibrium.residual);
+  }
   if (!s.report.converged()) {
     std::fprintf(stderr, "unjam solve: the solver did not converge (%s, residual %.3e, tolerance %.3e): %s\n",
                  ToString(s.report.status), s.report.residual, options.solver.tolerance, s.report.message.c_str());

@@ -9,6 +9,7 @@
 
 #include "cli_common.hpp"
 #include "command_bounds.hpp"
+#include "command_check.hpp"
 #include "command_compare.hpp"
 #include "command_pack.hpp"
 #include "command_perturb.hpp"
@@ -54,6 +55,10 @@ int Run(int argc, char** argv) {
   CLI::App* compare = app.add_subcommand("compare", "every backend on every problem at every tolerance: what accuracy costs in time");
   compare_flags.Register(*compare);
 
+  CheckFlags check_flags;
+  CLI::App* check = app.add_subcommand("check", "the hard cases on every backend: status, residual, Siconos error, overlap and energy at rest");
+  check_flags.Register(*check);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -81,6 +86,7 @@ int Run(int argc, char** argv) {
     if (*perturb) return RunPerturb(perturb_flags);
     if (*bounds) return RunBounds(bounds_flags);
     if (*compare) return RunCompare(compare_flags);
+    if (*check) return RunCheck(check_flags);
     return RunMainJob(main_job);
   } catch (const unjam::InputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

@@ -394,6 +394,12 @@ template <class Problem>
 SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
   const auto start = std::chrono::steady_clock::now();
   const int unknowns = static_cast<int>(k.h.rows());
+  if (unknowns == 0) {  // no contact: nothing to pivot, the empty impulse vector solves it
+    SolveResult empty;
+    empty.report.backend = name;
+    empty.report.status = SolveStatus::kConverged;
+    return empty;
+  }
   Posed slip = Pose(k, ConeForm::kSlipSpeed);
   const bool frictional = HasFriction(k);
   Posed box = frictional ? Pose(k, ConeForm::kShiftedBox) : Posed{};

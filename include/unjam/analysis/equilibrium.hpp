@@ -10,6 +10,11 @@
 
 namespace unjam {
 
+// A static answer whose EquilibriumReport::residual exceeds this is not in equilibrium to
+// the accuracy a converged solve at the default tolerance gives a well-conditioned problem
+// (1e-10): the state is not static, or the problem is ill-conditioned (docs/residual.md).
+inline constexpr double kStaticEquilibriumTolerance = 1e-8;
+
 struct EquilibriumReport {
   double mean_contact_force = 0.0;   // mean f_n over force-carrying contacts
   double max_force_imbalance = 0.0;  // max over free particles |F_ext + Σ f| / mean f_n
