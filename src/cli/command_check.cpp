@@ -108,8 +108,9 @@ nlohmann::json Json(const StabilityRow& r) {
 
 void PrintRow(std::FILE* out, const StabilityRow& r) {
   std::fprintf(out, "%-30s %-7s %6d %-17s %9.2e %9.2e %9.2e %6d %9.2e %9.2e %8.3f  %s%s%s\n", r.name.c_str(), r.backend.c_str(),
-               r.contacts, ToString(r.report.status), r.report.residual, r.siconos_error, r.equilibrium, r.steps, r.overlap_growth, r.energy_change, r.report.seconds,
-               ToString(r.verdict), r.message.empty() ? "" : ": ", r.message.substr(0, 90).c_str());
+               r.contacts, ToString(r.report.status), r.report.residual, r.siconos_error, r.equilibrium, r.steps,
+               r.overlap_growth, r.energy_change, r.report.seconds, ToString(r.verdict), r.message.empty() ? "" : ": ",
+               r.message.substr(0, 90).c_str());
 }
 
 }  // namespace

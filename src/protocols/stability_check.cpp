@@ -43,23 +43,26 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   o.solver = solver;
   StaticProblem posed = PoseStaticProblem(scene, o);
   posed.assembled.problem.initial_guess.resize(0);
-  const ContactProblem problem = posed.assembled.problem;
-  SolveResult result = MakeSolver(backend)->Solve(problem, solver);
+  const ContactProblem& problem = posed.assembled.problem;
+  const SolveResult result = MakeSolver(backend)->Solve(problem, solver);
   Solved out;
   out.impulses = result.impulses;
-  const StaticSolution s = SolutionOf(scene, std::move(posed), result, o.dt);
-  out.contacts = static_cast<int>(s.contacts.size());
-  out.equilibrium = s.equilibrium.residual;
-  out.report = s.report;
-  out.forces = ToContactForces(s);
+  double residual = result.report.residual;
   if (AllFinite(result.impulses)) {
-    out.report.residual = ComputeResidual(problem, result.impulses).residual;
+    residual = ComputeResidual(problem, result.impulses).residual;
     try {
       out.siconos_error = SiconosError(ToDelassusProblem(problem), result.impulses);
     } catch (const std::exception&) {
       out.siconos_error = kNaN;  // a problem Siconos' form cannot hold
     }
   }
+  // SolutionOf takes the posed problem: everything read from it above comes first.
+  const StaticSolution s = SolutionOf(scene, std::move(posed), result, o.dt);
+  out.contacts = static_cast<int>(s.contacts.size());
+  out.equilibrium = s.equilibrium.residual;
+  out.report = s.report;
+  out.report.residual = residual;
+  out.forces = ToContactForces(s);
   return out;
 }
 

@@ -2,8 +2,6 @@
 // cases whose right answer is known, including a silent failure it must catch.
 #include "unjam/protocols/stability_check.hpp"
 
-#include <cmath>
-#include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -15,7 +13,6 @@ namespace unjam {
 namespace {
 
 using testing::Disk;
-using testing::Floor;
 
 StabilityOptions AllBackends(int steps) {
   StabilityOptions o;
