@@ -5,8 +5,8 @@ beside their LP intervals from `unjam bounds --top|--bottom -o CSV` on the same 
 Reads the run's records (DIR/records.jsonl, docs/format.md), which grow one line per
 finished perturbation, so that a long ensemble (the 1600-disk piles: 15–60 minutes per
 shift) can be looked at while it runs or after it was stopped; rerunning the same
-`perturb` command resumes it. RECORDS may also be a directory of kept chunks
-(bench/results/ensembles/NAME, written by scripts/long-ensembles.sh).
+`perturb` command resumes it. RECORDS may be the run folder itself (its records.jsonl),
+e.g. out/ensembles/NAME of scripts/long-ensembles.sh.
 
 Prints per status the count, ⟨F_crit⟩/⟨F_y⟩ over the quasi-static (`ok`) shifts with its
 standard error (F_y the shifted particle's effective weight, the records' f_reference;
@@ -19,8 +19,6 @@ With a third argument, writes the joined rows as CSV.
 Usage: scripts/records_vs_bounds.py RECORDS BOUNDS_CSV [JOINED_CSV]
 """
 import csv
-import glob
-import gzip
 import json
 import math
 import os
@@ -32,13 +30,9 @@ from collections import Counter
 def records(path):
     # As perturb reads them (ReadRecords): whole lines only, so the text after the last
     # newline, a line torn by an interruption, is not a record; line 1 is the header.
-    if os.path.isdir(path):  # kept chunks, in order; the first holds the header
-        chunks = sorted(glob.glob(os.path.join(path, "records-*.jsonl.gz")))
-        if not chunks:
-            sys.exit(f"{path}: no records-*.jsonl.gz in it")
-        text = "".join(gzip.open(c, "rt").read() for c in chunks)
-    else:
-        text = open(path).read()
+    if os.path.isdir(path):
+        path = os.path.join(path, "records.jsonl")
+    text = open(path).read()
     lines = text.split("\n")[:-1]
     return [json.loads(line) for line in lines[1:]]
 

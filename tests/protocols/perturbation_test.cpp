@@ -666,8 +666,8 @@ TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
 // On the hyperstatic μ = 0.1 packing (829 contacts, 285 self-stresses) the path from zero
 // impulses of this opening (contact 8–108, F_cont = 1.315) cycles at every tie tolerance:
 // the lexicographic order of its degenerate bases is below double precision. A perturbed
-// run (lemke.cpp) resolves it. Its admissible interval (issue 5's LP, in
-// bench/results/compare-fcrit-lp-n500-mu0.1-sample100.csv) is [0, 3.007] without friction.
+// run (lemke.cpp) resolves it. Its admissible interval (`unjam bounds --contacts K`) is
+// [0, 3.007] without friction.
 // Opens the `index`-th force-carrying contact of the bundled μ = 0.1 packing (default
 // options), which must be the contact (i, j).
 void OpenContactOfTheMu01Packing(std::size_t index, int i, int j, PerturbationResult& r) {
@@ -700,8 +700,7 @@ TEST(Perturbation, LemkeResolvesAnOpeningWhosePathFromZeroCycles) {
 // shifted-box form (lemke.cpp), whose sticking contacts are not degenerate, solves it on
 // its first path from zero, exactly (since 2026-11-26 in the rate form, which runs
 // first). The answer must be a solution to round-off and lie in the contact's admissible
-// interval [0, 0.9519] without friction (issue 5's LP,
-// bench/results/compare-fcrit-lp-n500-mu0.1-sample100.csv).
+// interval [0, 0.9519] without friction (`unjam bounds --contacts K`).
 TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
   PerturbationResult r;
   ASSERT_NO_FATAL_FAILURE(OpenContactOfTheMu01Packing(133, 40, 317, r));
