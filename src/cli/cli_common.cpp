@@ -52,14 +52,17 @@ std::string ShellQuoted(const std::string& s) {
 }
 }  // namespace
 
-bool RunPlotScript(const std::string& name, const std::vector<std::string>& args) {
-  std::filesystem::path script = std::filesystem::path("scripts") / name;
-  if (!std::filesystem::exists(script)) script = std::filesystem::path(UNJAM_SOURCE_DIR) / "scripts" / name;
-  std::string command = "/usr/bin/python3 " + ShellQuoted(script.string());
+FigureStatus RunPlotScript(const std::string& name, const std::vector<std::string>& args) {
+  const std::string python = UNJAM_PYTHON;
+  if (python.empty()) return FigureStatus::kSkipped;
+  const std::filesystem::path script = std::filesystem::path(UNJAM_SCRIPTS_DIR) / name;
+  std::string command = ShellQuoted(python) + " " + ShellQuoted(script.string());
   for (const std::string& a : args) command += " " + ShellQuoted(a);
   command += " >/dev/null";
-  return std::system(command.c_str()) == 0;
+  return std::system(command.c_str()) == 0 ? FigureStatus::kDrawn : FigureStatus::kFailed;
 }
+
+const char* FiguresSkippedReason() { return UNJAM_FIGURES_NOTE; }
 
 int ThreadsFromOption(int requested) {
   return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

@@ -71,10 +71,14 @@ std::string Format(const char* fmt, auto... args) {
   return buf;
 }
 
-// Runs scripts/NAME (found from the working directory, then in the source tree) with
-// Debian's /usr/bin/python3 (matplotlib) and the arguments, each quoted for the shell;
-// stdout is discarded. True if it exited 0.
-bool RunPlotScript(const std::string& name, const std::vector<std::string>& args);
+// The optional figure step: runs scripts/NAME of the source tree with the Python 3 (and
+// matplotlib) found at configure time, the arguments each quoted for the shell; stdout is
+// discarded. kSkipped where the build has no figure step (UNJAM_FIGURES off, or no Python
+// with matplotlib when configured).
+enum class FigureStatus { kDrawn, kSkipped, kFailed };
+FigureStatus RunPlotScript(const std::string& name, const std::vector<std::string>& args);
+// Why figures are skipped, for the message a command prints.
+const char* FiguresSkippedReason();
 
 // Every digit of a finite number (%.17g); empty for no number (CSV).
 std::string ExactNumber(double x);

@@ -9,11 +9,11 @@
 #include <sstream>
 
 #include "command_bounds.hpp"
-#include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/indeterminacy/shift_bounds.hpp"
 #include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
+#include "unjam/protocols/response_ensemble.hpp"
 
 namespace unjam::cli {
 

@@ -114,8 +114,10 @@ int RunCompare(const CompareFlags& f) {
     const std::filesystem::path dir = f.output_dir;
     WriteFileAtomically(dir / "compare.csv", Csv(runs));
     WriteFileAtomically(dir / "summary.json", out.dump(2) + "\n");
-    if (!RunPlotScript("plot_compare.py", {dir.string()})) {
-      std::fprintf(stderr, "unjam: error: the figures were not drawn (needs /usr/bin/python3 with matplotlib)\n");
+    const FigureStatus figures = RunPlotScript("plot_compare.py", {dir.string()});
+    if (figures == FigureStatus::kSkipped) std::fprintf(stderr, "unjam: figures skipped: %s\n", FiguresSkippedReason());
+    if (figures == FigureStatus::kFailed) {
+      std::fprintf(stderr, "unjam: error: the figures were not drawn (%s scripts/plot_compare.py failed)\n", UNJAM_PYTHON);
       rc = kInternalError;
     }
     out["output"] = f.output_dir;

@@ -15,13 +15,13 @@
 
 #include "mpi_session.hpp"
 #include "output_paths.hpp"
-#include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/io/json_lines.hpp"
 #include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/particle_export.hpp"
 #include "unjam/io/response_records.hpp"
 #include "unjam/protocols/perturbation.hpp"
+#include "unjam/protocols/response_ensemble.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 
 namespace unjam::cli {

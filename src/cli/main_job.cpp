@@ -94,7 +94,7 @@ std::string TableCsv(const std::vector<Row>& rows) {
 }
 
 // The PNG through scripts/plot_displacement.py (matplotlib).
-bool PlotField(const std::filesystem::path& dir, const PerturbationResult& r, double gap) {
+FigureStatus PlotField(const std::filesystem::path& dir, const PerturbationResult& r, double gap) {
   const std::string title = Format("contact %d-%d opened by xi = %.3g: F_crit %.5g, delta %.3g (%s)", r.target.i, r.target.j,
                                    gap, r.f_crit, r.penetration_depth, r.status.c_str());
   return RunPlotScript("plot_displacement.py",
@@ -156,12 +156,18 @@ int RunMainJob(const MainJobFlags& flags) {
   int rc = s.report.converged() ? kOk : kNotConverged;
   t = Clock::now();
   WriteFullField(dir, base, *shown);
-  if (PlotField(dir, *shown, options.gap)) {
-    std::printf("figure           %s (contact %d-%d, %s), %.2f s\n", (dir / "displacement.png").c_str(), shown->target.i,
-                shown->target.j, shown->status.c_str(), Since(t));
-  } else {
-    std::fprintf(stderr, "unjam: error: the figure was not written (needs /usr/bin/python3 with matplotlib: scripts/install-deps.sh)\n");
-    rc = kInternalError;
+  switch (PlotField(dir, *shown, options.gap)) {
+    case FigureStatus::kDrawn:
+      std::printf("figure           %s (contact %d-%d, %s), %.2f s\n", (dir / "displacement.png").c_str(), shown->target.i,
+                  shown->target.j, shown->status.c_str(), Since(t));
+      break;
+    case FigureStatus::kSkipped:
+      std::printf("figure           skipped: %s\n", FiguresSkippedReason());
+      break;
+    case FigureStatus::kFailed:
+      std::fprintf(stderr, "unjam: error: the figure was not written (%s scripts/plot_displacement.py failed)\n", UNJAM_PYTHON);
+      rc = kInternalError;
+      break;
   }
   std::printf("written          %s: main-job.csv, displacement.csv, response.vtk (ParaView), response.xyz (OVITO)\n", dir.c_str());
   std::printf("total            %.2f s\n", Since(start));

@@ -11,9 +11,9 @@
 
 #include <ClpSimplex.hpp>
 
-#include "../problem/lp_triplets.hpp"
 #include "unjam/indeterminacy/equilibrium_system.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
+#include "unjam/lp/lp_triplets.hpp"
 
 namespace unjam::indeterminacy_internal {
 

@@ -6,7 +6,7 @@
 
 #include <ClpSimplex.hpp>
 
-#include "lp_triplets.hpp"
+#include "unjam/lp/lp_triplets.hpp"
 
 namespace unjam {
 

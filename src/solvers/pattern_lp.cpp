@@ -10,7 +10,7 @@
 #include <ClpSimplex.hpp>
 #include <Eigen/SparseCore>
 
-#include "../problem/lp_triplets.hpp"
+#include "unjam/lp/lp_triplets.hpp"
 
 namespace unjam {
 

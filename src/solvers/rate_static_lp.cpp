@@ -4,7 +4,7 @@
 #include <limits>
 #include <numeric>
 
-#include "../problem/lp_triplets.hpp"
+#include "unjam/lp/lp_triplets.hpp"
 #include "unjam/solvers/rate_path.hpp"
 
 namespace unjam {

@@ -13,10 +13,10 @@
 #include <gtest/gtest.h>
 
 #include "test_scenes.hpp"
-#include "unjam/analysis/response_ensemble.hpp"
 #include "unjam/indeterminacy/shift_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
+#include "unjam/protocols/response_ensemble.hpp"
 #include "unjam/protocols/static_solve.hpp"
 
 namespace unjam {

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "unjam/analysis/response_ensemble.hpp"
+#include "unjam/protocols/response_ensemble.hpp"
 
 namespace unjam {
 

@@ -1,6 +1,7 @@
 // A linear program built up row by row and column by column, and loaded into COIN-OR CLP:
 // the one builder of the project's LPs (the kinematic admissibility of a step, the pattern
-// LP of solvers/pattern_lp.hpp, the force ensemble of src/indeterminacy). Internal to src/.
+// LP of solvers/pattern_lp.hpp, the force ensemble of src/indeterminacy). Internal to the
+// library: included only from src/ (it includes CLP, which unjam_core links privately).
 #pragma once
 
 #include <vector>

@@ -1,4 +1,4 @@
-#include "lp_triplets.hpp"
+#include "unjam/lp/lp_triplets.hpp"
 
 #include <limits>
 

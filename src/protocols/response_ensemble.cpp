@@ -1,4 +1,4 @@
-#include "unjam/analysis/response_ensemble.hpp"
+#include "unjam/protocols/response_ensemble.hpp"
 
 #include <algorithm>
 #include <cmath>
