@@ -30,7 +30,8 @@ ContactProblem ColdStaticProblem(const std::string& path) {
   return s.assembled.problem;
 }
 
-void SolveOnce(benchmark::State& state, const ContactProblem& p, const std::string& backend, double tolerance) {
+void SolveOnce(benchmark::State& state, const ContactProblem& p, const std::string& backend,
+               double tolerance) {
   SolverOptions o;
   o.tolerance = tolerance;
   SolveReport last;
@@ -54,9 +55,14 @@ void RegisterAll() {
   for (const auto& [name, problem] : problems) {
     for (const std::string& backend : AvailableBackends()) {
       for (double tol : {1e-4, 1e-8, 1e-12}) {
-        const std::string label = "static/" + name + "/" + backend + "/tol:" + (tol == 1e-4 ? "1e-4" : tol == 1e-8 ? "1e-8" : "1e-12");
+        const std::string label = "static/" + name + "/" + backend + "/tol:" +
+                                  (tol == 1e-4   ? "1e-4"
+                                   : tol == 1e-8 ? "1e-8"
+                                                 : "1e-12");
         const ContactProblem* p = &problem;
-        benchmark::RegisterBenchmark(label.c_str(), [p, backend, tol](benchmark::State& s) { SolveOnce(s, *p, backend, tol); })
+        benchmark::RegisterBenchmark(
+            label.c_str(),
+            [p, backend, tol](benchmark::State& s) { SolveOnce(s, *p, backend, tol); })
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
       }

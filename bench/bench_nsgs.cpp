@@ -72,7 +72,8 @@ bool Bundled(benchmark::State& state, const char* path) {
 }
 
 // The benchmarks' sweep-order argument: 0 forward, 1 random, 2 local, 3 height.
-constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal, SweepOrder::kHeight};
+constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, SweepOrder::kLocal,
+                                  SweepOrder::kHeight};
 
 void TimeSweeps(benchmark::State& state, const ContactProblem& p, int threads = 1) {
   SolverOptions o;
@@ -138,7 +139,8 @@ void BM_NsgsPileFromRest(benchmark::State& state) {
   }
   state.counters["sweeps"] = r.report.iterations;
   state.counters["residual"] = r.report.residual;
-  state.counters["ns_per_update"] = r.report.seconds * 1e9 / static_cast<double>(r.report.contact_updates);
+  state.counters["ns_per_update"] =
+      r.report.seconds * 1e9 / static_cast<double>(r.report.contact_updates);
 }
 
 // The lattice with side² disks: from N = 3136 (9 400 contacts, which fit in the core's
@@ -149,15 +151,52 @@ void BM_NsgsSweepsBySize(benchmark::State& state) {
 
 // Args: μ × 100, sweep order (0 forward, 1 random, 2 local, 3 height)[, lattice side, or
 // −log10 of the tolerance].
-BENCHMARK(BM_NsgsSweepsJammed3000)->Args({50, 1})->Args({0, 1})->Args({50, 2})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NsgsSweeps)->Args({0, 1})->Args({50, 1})->Args({0, 0})->Args({50, 0})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NsgsSweepsPile1600)->Args({10, 1})->Args({10, 3})->Args({10, 0})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NsgsPileFromRest)->Args({10, 1, 4, 1})->Args({10, 3, 4, 1})->Args({10, 0, 4, 1})->Args({10, 1, 4, 2})->Args({10, 3, 4, 2})->Iterations(1)->Unit(benchmark::kSecond);
-BENCHMARK(BM_NsgsThreadsJammed3000)->Args({50, 1, 1})->Args({50, 1, 2})->Args({50, 3, 1})->Args({50, 3, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_NsgsThreadsPile1600)->Args({10, 3, 1})->Args({10, 3, 2})->Args({10, 1, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsSweepsJammed3000)
+    ->Args({50, 1})
+    ->Args({0, 1})
+    ->Args({50, 2})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsSweeps)
+    ->Args({0, 1})
+    ->Args({50, 1})
+    ->Args({0, 0})
+    ->Args({50, 0})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsSweepsPile1600)
+    ->Args({10, 1})
+    ->Args({10, 3})
+    ->Args({10, 0})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsPileFromRest)
+    ->Args({10, 1, 4, 1})
+    ->Args({10, 3, 4, 1})
+    ->Args({10, 0, 4, 1})
+    ->Args({10, 1, 4, 2})
+    ->Args({10, 3, 4, 2})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK(BM_NsgsThreadsJammed3000)
+    ->Args({50, 1, 1})
+    ->Args({50, 1, 2})
+    ->Args({50, 3, 1})
+    ->Args({50, 3, 2})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NsgsThreadsPile1600)
+    ->Args({10, 3, 1})
+    ->Args({10, 3, 2})
+    ->Args({10, 1, 2})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NsgsSweepsBySize)
-    ->Args({50, 1, 56})->Args({50, 1, 80})->Args({50, 1, 112})->Args({50, 1, 160})
-    ->Args({50, 2, 56})->Args({50, 2, 80})->Args({50, 2, 112})->Args({50, 2, 160})
+    ->Args({50, 1, 56})
+    ->Args({50, 1, 80})
+    ->Args({50, 1, 112})
+    ->Args({50, 1, 160})
+    ->Args({50, 2, 56})
+    ->Args({50, 2, 80})
+    ->Args({50, 2, 112})
+    ->Args({50, 2, 160})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

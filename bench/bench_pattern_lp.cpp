@@ -27,7 +27,8 @@ Case Pose(const std::string& file, bool top_shift, int index) {
   const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/" + file);
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  const std::vector<PerturbationTarget> targets = top_shift ? TopTargets(base) : SampleTargets(ContactTargets(base), 10, 1);
+  const std::vector<PerturbationTarget> targets =
+      top_shift ? TopTargets(base) : SampleTargets(ContactTargets(base), 10, 1);
   Case c{PosePerturbationProblem(base, targets[index], o), o.solver};
   c.options.tolerance = SolverToleranceFor(o, base);
   c.options.lemke_velocity_scale = o.gap / o.dt;
@@ -62,11 +63,13 @@ void Pattern(benchmark::State& state, const Case& (*make)()) {
   const SolveResult start = MakeSolver("lemke")->Solve(c.problem, c.options);
   PatternSolution last;
   for (auto _ : state) {
-    last = SolveOnPattern(c.problem, start.impulses, c.problem.initial_guess, c.options.lemke_velocity_scale, 1.0);
+    last = SolveOnPattern(c.problem, start.impulses, c.problem.initial_guess,
+                          c.options.lemke_velocity_scale, 1.0);
     benchmark::DoNotOptimize(last.impulses.data());
   }
   state.counters["found"] = last.found ? 1 : 0;
-  state.counters["residual"] = last.found ? ComputeResidual(c.problem, last.impulses).residual : 0.0;
+  state.counters["residual"] =
+      last.found ? ComputeResidual(c.problem, last.impulses).residual : 0.0;
   state.counters["contacts"] = c.problem.NumContacts();
   state.counters["simplex_iterations"] = static_cast<double>(last.iterations);
 }

@@ -3,7 +3,7 @@
 # Idempotent: packages already present are skipped by apt-get.
 set -euo pipefail
 packages=(
-  build-essential cmake ninja-build pkg-config git
+  build-essential cmake ninja-build pkg-config git clang-format
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libnlopt-cxx-dev coinor-libclp-dev
   libgtest-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev libopenmpi-dev openmpi-bin
   gnuplot-nox python3-matplotlib python3-scipy

@@ -25,7 +25,8 @@ inline Scene VGroove(double a, double mu) {
   s.cell.size = Vec2(20.0, 20.0);
   s.effects.gravity = Vec2(0.0, -1.0);
   s.effects.friction = mu;
-  s.particles = {Disk(-a, 0.0, 1.0, true), Disk(a, 0.0, 1.0, true), Disk(0.0, std::sqrt(4.0 - a * a), 1.0)};
+  s.particles = {Disk(-a, 0.0, 1.0, true), Disk(a, 0.0, 1.0, true),
+                 Disk(0.0, std::sqrt(4.0 - a * a), 1.0)};
   return s;
 }
 

@@ -28,7 +28,8 @@ EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact
       virial += f.dot(c.center_to_center);
     }
   }
-  out.mean_contact_force = out.force_carrying_contacts > 0 ? sum_fn / out.force_carrying_contacts : 0.0;
+  out.mean_contact_force =
+      out.force_carrying_contacts > 0 ? sum_fn / out.force_carrying_contacts : 0.0;
   const std::vector<char> movable = MovableParticles(scene);
   double mean_radius = 0.0;
   for (const Particle& p : scene.particles) mean_radius += p.radius / n;

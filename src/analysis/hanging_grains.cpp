@@ -18,7 +18,8 @@ std::vector<int> HangingGrains(const Scene& scene, const std::vector<Contact>& c
   }
   std::vector<int> hanging;
   for (std::size_t k = 0; k < n; ++k) {
-    if (!scene.particles[k].fixed && contacts_of[k] > 0 && !held_from_below[k]) hanging.push_back(static_cast<int>(k));
+    if (!scene.particles[k].fixed && contacts_of[k] > 0 && !held_from_below[k])
+      hanging.push_back(static_cast<int>(k));
   }
   return hanging;
 }

@@ -30,8 +30,8 @@ double CenteredCrossSum(const std::vector<double>& a, double mean_a, const std::
 
 void CheckSameSize(std::size_t a, std::size_t b, const char* what) {
   if (a != b) {
-    throw std::invalid_argument(std::string(what) + ": sizes differ (" + std::to_string(a) + " vs " +
-                                std::to_string(b) + ")");
+    throw std::invalid_argument(std::string(what) + ": sizes differ (" + std::to_string(a) +
+                                " vs " + std::to_string(b) + ")");
   }
 }
 
@@ -40,7 +40,8 @@ void CheckSameSize(std::size_t a, std::size_t b, const char* what) {
 int LogBinCount(double r_min, double r_max, int bins_per_decade) {
   const double exact = bins_per_decade * std::log10(r_max / r_min);
   const double nearest = std::round(exact);
-  const double count = std::abs(exact - nearest) < 1e-9 * std::max(1.0, exact) ? nearest : std::ceil(exact);
+  const double count =
+      std::abs(exact - nearest) < 1e-9 * std::max(1.0, exact) ? nearest : std::ceil(exact);
   return std::max(1, static_cast<int>(count));
 }
 
@@ -74,7 +75,8 @@ std::vector<LogPoint> PointsToFit(const std::vector<LogBin>& bins, double fit_mi
     if (bin.count <= 0 || !(bin.mean > 0.0) || !(bin.r_mean > 0.0)) continue;
     if (bin.r_mean < fit_min || bin.r_mean > fit_max) continue;
     const double sigma = bin.error / bin.mean;  // error of log(mean), to first order
-    points.push_back({std::log(bin.r_mean), std::log(bin.mean), sigma > 0.0 ? 1.0 / (sigma * sigma) : 0.0});
+    points.push_back(
+        {std::log(bin.r_mean), std::log(bin.mean), sigma > 0.0 ? 1.0 / (sigma * sigma) : 0.0});
   }
   return points;
 }
@@ -126,7 +128,8 @@ std::vector<LogBin> LogBinned(const std::vector<double>& r, const std::vector<do
   }
   const int bins = LogBinCount(r_min, r_max, bins_per_decade);
   std::vector<double> edges(bins + 1);
-  for (int k = 0; k <= bins; ++k) edges[k] = r_min * std::pow(10.0, static_cast<double>(k) / bins_per_decade);
+  for (int k = 0; k <= bins; ++k)
+    edges[k] = r_min * std::pow(10.0, static_cast<double>(k) / bins_per_decade);
   // The last bin stops at r_max: samples beyond it are ignored, so that is its true extent.
   edges[bins] = r_max;
 

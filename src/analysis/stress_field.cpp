@@ -22,7 +22,8 @@ struct AxisTiling {
 AxisTiling TileAxis(bool periodic, double length, double side, double lower, double upper) {
   if (periodic) {
     const double boxes = std::round(length / side);
-    if (!(boxes <= kMaxBoxesPerAxis)) throw std::invalid_argument("CellGrid: too many boxes for this side");
+    if (!(boxes <= kMaxBoxesPerAxis))
+      throw std::invalid_argument("CellGrid: too many boxes for this side");
     const int count = std::max(1, static_cast<int>(boxes));
     // side = L / count exactly, so that the boxes tile the periodic cell with no sliver.
     return {0.0, length / count, count};
@@ -31,14 +32,17 @@ AxisTiling TileAxis(bool periodic, double length, double side, double lower, dou
     throw std::invalid_argument("CellGrid: the extent [lower, upper] must be finite and ordered");
   }
   const double boxes = std::ceil((upper - lower) / side);
-  if (boxes > kMaxBoxesPerAxis) throw std::invalid_argument("CellGrid: too many boxes for this side");
+  if (boxes > kMaxBoxesPerAxis)
+    throw std::invalid_argument("CellGrid: too many boxes for this side");
   const int count = std::max(1, static_cast<int>(boxes));
   return {lower, side, count};
 }
 
 void CheckGrid(const GridSpec& grid) {
-  if (grid.nx < 1 || grid.ny < 1) throw std::invalid_argument("stress grid: nx and ny must be >= 1");
-  if (!(grid.side.x() > 0.0) || !(grid.side.y() > 0.0) || !grid.side.allFinite() || !grid.origin.allFinite()) {
+  if (grid.nx < 1 || grid.ny < 1)
+    throw std::invalid_argument("stress grid: nx and ny must be >= 1");
+  if (!(grid.side.x() > 0.0) || !(grid.side.y() > 0.0) || !grid.side.allFinite() ||
+      !grid.origin.allFinite()) {
     throw std::invalid_argument("stress grid: box sides must be positive and finite");
   }
 }
@@ -69,7 +73,8 @@ int AxisBox(double u, int count, bool periodic) {
 
 void CheckSegment(const StressSegment& s) {
   if (!s.start.allFinite() || !s.branch.allFinite() || !s.force.allFinite()) {
-    throw std::invalid_argument("CoarseGrainedStress: segment with a non-finite start, branch or force");
+    throw std::invalid_argument(
+        "CoarseGrainedStress: segment with a non-finite start, branch or force");
   }
 }
 
@@ -106,9 +111,12 @@ void AddSegment(const StressSegment& s, double box_area, StressGrid& out) {
 }  // namespace
 
 GridSpec CellGrid(const Cell& cell, double side, Vec2 lower, Vec2 upper) {
-  if (!(side > 0.0) || !std::isfinite(side)) throw std::invalid_argument("CellGrid: side must be positive");
-  const AxisTiling x = TileAxis(PeriodicX(cell.periodicity), cell.size.x(), side, lower.x(), upper.x());
-  const AxisTiling y = TileAxis(PeriodicY(cell.periodicity), cell.size.y(), side, lower.y(), upper.y());
+  if (!(side > 0.0) || !std::isfinite(side))
+    throw std::invalid_argument("CellGrid: side must be positive");
+  const AxisTiling x =
+      TileAxis(PeriodicX(cell.periodicity), cell.size.x(), side, lower.x(), upper.x());
+  const AxisTiling y =
+      TileAxis(PeriodicY(cell.periodicity), cell.size.y(), side, lower.y(), upper.y());
   GridSpec grid;
   grid.origin = Vec2(x.origin, y.origin);
   grid.side = Vec2(x.side, y.side);

@@ -17,12 +17,20 @@ namespace {
 constexpr const char* kOtherRun = "remove it or choose another --output";
 }  // namespace
 
-BoundsRecords::BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsOptions& o, int rank)
-    : base_(f.output + ".records.jsonl"), own_(RankPath(base_, rank)), contacts_(static_cast<int>(s.contacts.size())),
-      header_({{"unjam_bounds_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
-               {"packing_fnv1a", FileFingerprint(f.file)}, {"contacts", f.contacts}, {"selected", selected},
-               {"ensemble_contacts", s.contacts.size()}, {"lp", f.lp}, {"warm_start", o.warm_start},
-               {"gap_tolerance", f.gap_tolerance}, {"lp_tolerance", o.lp_tolerance}}) {
+BoundsRecords::BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected,
+                             const BoundsOptions& o, int rank)
+    : base_(f.output + ".records.jsonl"), own_(RankPath(base_, rank)),
+      contacts_(static_cast<int>(s.contacts.size())),
+      header_({{"unjam_bounds_records", 1},
+               {"packing", std::filesystem::path(f.file).filename().string()},
+               {"packing_fnv1a", FileFingerprint(f.file)},
+               {"contacts", f.contacts},
+               {"selected", selected},
+               {"ensemble_contacts", s.contacts.size()},
+               {"lp", f.lp},
+               {"warm_start", o.warm_start},
+               {"gap_tolerance", f.gap_tolerance},
+               {"lp_tolerance", o.lp_tolerance}}) {
   ReadAll();
   resumed_ = static_cast<long long>(known_.size());
   resumed_iterations_ = KnownIterations();
@@ -31,10 +39,16 @@ BoundsRecords::BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, s
 }
 
 void BoundsRecords::Add(const BoundRecord& r) {
-  log_ << nlohmann::json{{"contact", r.contact}, {"kind", ToString(r.kind)}, {"status", ToString(r.bound.status)},
-                         {"value", r.bound.ok() ? nlohmann::json(r.bound.value) : nlohmann::json(nullptr)},
-                         {"iterations", r.iterations}, {"shortcut", r.shortcut}}.dump()
-       << '\n' << std::flush;
+  log_ << nlohmann::json{{"contact", r.contact},
+                         {"kind", ToString(r.kind)},
+                         {"status", ToString(r.bound.status)},
+                         {"value",
+                          r.bound.ok() ? nlohmann::json(r.bound.value) : nlohmann::json(nullptr)},
+                         {"iterations", r.iterations},
+                         {"shortcut", r.shortcut}}
+              .dump()
+       << '\n'
+       << std::flush;
   if (!log_) throw OutputError(own_.string() + ": cannot append a bound");
   ++written_;
   written_iterations_ += r.iterations;
@@ -80,16 +94,21 @@ long long BoundsRecords::KnownIterations() const {
 }
 
 long long BoundsRecords::KnownShortcuts() const {
-  return std::count_if(known_.begin(), known_.end(), [](const BoundRecord& r) { return r.shortcut; });
+  return std::count_if(known_.begin(), known_.end(),
+                       [](const BoundRecord& r) { return r.shortcut; });
 }
 
-BoundRecord BoundsRecords::FromJson(const std::filesystem::path& path, const nlohmann::json& j, int line) const {
-  auto bad = [&](const std::string& why) { return InputError(path.string(), line, "bad bound record: " + why); };
+BoundRecord BoundsRecords::FromJson(const std::filesystem::path& path, const nlohmann::json& j,
+                                    int line) const {
+  auto bad = [&](const std::string& why) {
+    return InputError(path.string(), line, "bad bound record: " + why);
+  };
   BoundRecord r;
   try {
     r.contact = j.at("contact").get<int>();
     const std::optional<BoundKind> kind = BoundKindFromString(j.at("kind").get<std::string>());
-    const std::optional<BoundStatus> status = BoundStatusFromString(j.at("status").get<std::string>());
+    const std::optional<BoundStatus> status =
+        BoundStatusFromString(j.at("status").get<std::string>());
     if (!kind || !status) throw bad("unknown kind or status");
     r.kind = *kind;
     r.bound.status = *status;
@@ -99,8 +118,10 @@ BoundRecord BoundsRecords::FromJson(const std::filesystem::path& path, const nlo
   } catch (const nlohmann::json::exception& e) {
     throw bad(e.what());
   }
-  if (r.contact < 0 || r.contact >= contacts_) throw bad("contact " + std::to_string(r.contact) + " is not in the ensemble");
-  if (r.bound.ok() && !std::isfinite(r.bound.value)) throw bad("a value that is not a finite number");
+  if (r.contact < 0 || r.contact >= contacts_)
+    throw bad("contact " + std::to_string(r.contact) + " is not in the ensemble");
+  if (r.bound.ok() && !std::isfinite(r.bound.value))
+    throw bad("a value that is not a finite number");
   return r;
 }
 

@@ -21,7 +21,8 @@ class BoundsRecords {
  public:
   // Reads what every rank file beside FILE holds (throws InputError for a bad line,
   // std::invalid_argument for records of other parameters) and opens this rank's own.
-  BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, const BoundsOptions& o, int rank);
+  BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected,
+                const BoundsOptions& o, int rank);
   const std::vector<BoundRecord>& Known() const { return known_; }
   const std::filesystem::path& Path() const { return base_; }
   // Called one at a time (BoundsOptions::on_bound). Throws OutputError if it cannot write.
@@ -35,7 +36,9 @@ class BoundsRecords {
   long long ObtainedIterations() const { return KnownIterations() + written_iterations_; }
   long long WrittenIterations() const { return written_iterations_; }
   // The bounds answered by a shortcut, not an LP, in this run (on every rank, after Merge).
-  long long ShortcutsThisRun() const { return KnownShortcuts() + written_shortcuts_ - resumed_shortcuts_; }
+  long long ShortcutsThisRun() const {
+    return KnownShortcuts() + written_shortcuts_ - resumed_shortcuts_;
+  }
   // The run is written out: the records, this rank's and any other rank files beside them,
   // are no longer needed.
   void Remove();

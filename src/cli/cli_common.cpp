@@ -14,25 +14,51 @@ namespace unjam::cli {
 
 void SolverFlags::Register(CLI::App& app) {
   app.add_option("--backend", backend, "contact solver backend")->capture_default_str();
-  app.add_option("--tol", options.tolerance, "tolerance on the unjam residual (docs/residual.md)")->capture_default_str();
-  app.add_option("--max-iter", options.max_iterations, "NSGS sweep limit (newton: of its NSGS warm-up; ipopt, nlopt: De Saxce outer iterations; lemke: pivots over all its runs)")->capture_default_str();
-  app.add_option("--relaxation", options.relaxation, "NSGS over-relaxation factor in (0, 2)")->capture_default_str();
-  app.add_option("--order", order, "NSGS sweep order: random, forward, symmetric, local (random blocks of neighbouring contacts: faster on large packings), height (contacts by height, swept up and down in turn: for piles; docs/performance.md)")->capture_default_str();
-  app.add_option("--sweep-seed", options.seed, "seed of the random sweep order")->capture_default_str();
-  app.add_option("--newton-iter", options.newton_max_iterations, "Newton iteration limit (each one a sparse LU)")->capture_default_str();
-  app.add_option("--warmup-tol", options.newton_warmup_tolerance, "Newton: NSGS warms up to this residual first")->capture_default_str();
-  app.add_flag("--convex-relaxation", options.convex_relaxation, "ipopt, nlopt: solve the convex relaxation once (a different model: sliding contacts separate)");
-  app.add_option("--ipopt-iter", options.ipopt_max_iterations, "ipopt: interior-point iterations per convex solve")->capture_default_str();
-  app.add_option("--nlopt-algorithm", nlopt_algorithm, "nlopt: lbfgs (bounded L-BFGS) or ccsaq")->capture_default_str();
-  app.add_option("--nlopt-eval", options.nlopt_max_evaluations, "nlopt: objective evaluations per convex solve")->capture_default_str();
-  app.add_flag("--lemke-warm", options.lemke_warm_start, "lemke (experimental): first follow the homotopy from the warm start (the static forces), then the path from zero");
+  app.add_option("--tol", options.tolerance, "tolerance on the unjam residual (docs/residual.md)")
+      ->capture_default_str();
+  app.add_option("--max-iter", options.max_iterations,
+                 "NSGS sweep limit (newton: of its NSGS warm-up; ipopt, nlopt: De Saxce outer "
+                 "iterations; lemke: pivots over all its runs)")
+      ->capture_default_str();
+  app.add_option("--relaxation", options.relaxation, "NSGS over-relaxation factor in (0, 2)")
+      ->capture_default_str();
+  app.add_option("--order", order,
+                 "NSGS sweep order: random, forward, symmetric, local (random blocks of "
+                 "neighbouring contacts: faster on large packings), height (contacts by height, "
+                 "swept up and down in turn: for piles; docs/performance.md)")
+      ->capture_default_str();
+  app.add_option("--sweep-seed", options.seed, "seed of the random sweep order")
+      ->capture_default_str();
+  app.add_option("--newton-iter", options.newton_max_iterations,
+                 "Newton iteration limit (each one a sparse LU)")
+      ->capture_default_str();
+  app.add_option("--warmup-tol", options.newton_warmup_tolerance,
+                 "Newton: NSGS warms up to this residual first")
+      ->capture_default_str();
+  app.add_flag("--convex-relaxation", options.convex_relaxation,
+               "ipopt, nlopt: solve the convex relaxation once (a different model: sliding "
+               "contacts separate)");
+  app.add_option("--ipopt-iter", options.ipopt_max_iterations,
+                 "ipopt: interior-point iterations per convex solve")
+      ->capture_default_str();
+  app.add_option("--nlopt-algorithm", nlopt_algorithm, "nlopt: lbfgs (bounded L-BFGS) or ccsaq")
+      ->capture_default_str();
+  app.add_option("--nlopt-eval", options.nlopt_max_evaluations,
+                 "nlopt: objective evaluations per convex solve")
+      ->capture_default_str();
+  app.add_flag("--lemke-warm", options.lemke_warm_start,
+               "lemke (experimental): first follow the homotopy from the warm start (the static "
+               "forces), then the path from zero");
   app.add_option("--lemke-row-pivots", options.lemke_pivots_per_row,
-                 "lemke: pivots per complementarity row that each of its runs may take before the next is tried (0: 20, and 200 in the rate form)")
+                 "lemke: pivots per complementarity row that each of its runs may take before the "
+                 "next is tried (0: 20, and 200 in the rate form)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
   app.add_flag("--lemke-box-first", options.lemke_box_rate_first,
-               "lemke, perturbation steps with friction: try the box-form path in the rate form before the other paths (on tall piles those cycle first)");
-  app.add_flag("--require-converged", require_converged, "exit with code 3 if the solver did not converge");
+               "lemke, perturbation steps with friction: try the box-form path in the rate form "
+               "before the other paths (on tall piles those cycle first)");
+  app.add_flag("--require-converged", require_converged,
+               "exit with code 3 if the solver did not converge");
 }
 
 SolverOptions SolverFlags::Resolve() const {
@@ -40,7 +66,8 @@ SolverOptions SolverFlags::Resolve() const {
   o.sweep_order = SweepOrderFromString(order);
   o.nlopt_algorithm = NloptAlgorithmFromString(nlopt_algorithm);
   Validate(o);
-  if (!(backend_may_be_auto && backend == "auto")) MakeSolver(backend);  // throws for an unknown one, listing the known ones
+  if (!(backend_may_be_auto && backend == "auto"))
+    MakeSolver(backend);  // throws for an unknown one, listing the known ones
   return o;
 }
 
@@ -65,7 +92,8 @@ FigureStatus RunPlotScript(const std::string& name, const std::vector<std::strin
 const char* FiguresSkippedReason() { return UNJAM_FIGURES_NOTE; }
 
 int ThreadsFromOption(int requested) {
-  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return requested > 0 ? requested
+                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 std::string DefaultPackingPath() {
@@ -75,8 +103,9 @@ std::string DefaultPackingPath() {
 }
 
 nlohmann::json ToJson(const SolveReport& r) {
-  return {{"backend", r.backend},     {"status", ToString(r.status)}, {"converged", r.converged()},
-          {"iterations", r.iterations}, {"residual", r.residual},      {"seconds", r.seconds},
+  return {{"backend", r.backend},       {"status", ToString(r.status)},
+          {"converged", r.converged()}, {"iterations", r.iterations},
+          {"residual", r.residual},     {"seconds", r.seconds},
           {"message", r.message}};
 }
 
@@ -93,7 +122,9 @@ std::string FileFingerprint(const std::string& path) {
   return buf;
 }
 
-nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+nlohmann::json NumberOrNull(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
 
 const char* PeriodicityName(Periodicity p) {
   switch (p) {
@@ -107,12 +138,30 @@ const char* PeriodicityName(Periodicity p) {
 std::string EffectsSummary(const Scene& s) {
   std::ostringstream os;
   const char* sep = "";
-  if (s.effects.gravity) { os << sep << "gravity (" << s.effects.gravity->x() << ", " << s.effects.gravity->y() << ")"; sep = ", "; }
-  if (s.effects.Frictional()) { os << sep << "friction mu=" << s.effects.friction; sep = ", "; }
-  if (s.effects.pressure_bath) { os << sep << "pressure bath P=" << s.effects.pressure_bath->pressure; sep = ", "; }
-  if (!s.effects.prescribed_motion.empty()) { os << sep << s.effects.prescribed_motion.size() << " prescribed motions"; sep = ", "; }
-  if (!s.effects.prescribed_gaps.empty()) { os << sep << s.effects.prescribed_gaps.size() << " held gaps"; sep = ", "; }
-  if (!s.cell.walls.empty()) { os << sep << s.cell.walls.size() << " walls"; sep = ", "; }
+  if (s.effects.gravity) {
+    os << sep << "gravity (" << s.effects.gravity->x() << ", " << s.effects.gravity->y() << ")";
+    sep = ", ";
+  }
+  if (s.effects.Frictional()) {
+    os << sep << "friction mu=" << s.effects.friction;
+    sep = ", ";
+  }
+  if (s.effects.pressure_bath) {
+    os << sep << "pressure bath P=" << s.effects.pressure_bath->pressure;
+    sep = ", ";
+  }
+  if (!s.effects.prescribed_motion.empty()) {
+    os << sep << s.effects.prescribed_motion.size() << " prescribed motions";
+    sep = ", ";
+  }
+  if (!s.effects.prescribed_gaps.empty()) {
+    os << sep << s.effects.prescribed_gaps.size() << " held gaps";
+    sep = ", ";
+  }
+  if (!s.cell.walls.empty()) {
+    os << sep << s.cell.walls.size() << " walls";
+    sep = ", ";
+  }
   const std::string out = os.str();
   return out.empty() ? "none (frictionless, no load)" : out;
 }
@@ -121,7 +170,8 @@ PerturbationTarget ShiftOption(const PerturbationBase& base, bool down, int part
   try {
     return ParticleShift(base, particle, Vec2(0.0, down ? -1.0 : 1.0));
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string(down ? "--shift-down " : "--shift-up ") + std::to_string(particle) + ": " + e.what());
+    throw std::invalid_argument(std::string(down ? "--shift-down " : "--shift-up ") +
+                                std::to_string(particle) + ": " + e.what());
   }
 }
 

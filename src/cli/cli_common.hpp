@@ -26,7 +26,8 @@ inline CLI::Validator AtLeast(double lowest, bool inclusive, const std::string& 
         } catch (const std::exception&) {
           return "must be a number, got " + v;
         }
-        return (inclusive ? x >= lowest : x > lowest) ? std::string() : "must be " + rule + ", got " + v;
+        return (inclusive ? x >= lowest : x > lowest) ? std::string()
+                                                      : "must be " + rule + ", got " + v;
       },
       "NUMBER " + rule);
 }
@@ -36,11 +37,11 @@ inline CLI::Validator Positive() { return AtLeast(0.0, false, "> 0"); }
 // Exit codes (docs/cli.md).
 enum ExitCode : int {
   kOk = 0,
-  kInputError = 1,        // a file could not be read or is invalid
-  kUsageError = 2,        // unknown option, bad option value
-  kNotConverged = 3,      // --require-converged and the solver did not converge
-  kInternalError = 4,     // anything else (a bug: please report)
-  kCheckFailed = 5,       // `unjam check` found a silent failure (docs/stability.md)
+  kInputError = 1,     // a file could not be read or is invalid
+  kUsageError = 2,     // unknown option, bad option value
+  kNotConverged = 3,   // --require-converged and the solver did not converge
+  kInternalError = 4,  // anything else (a bug: please report)
+  kCheckFailed = 5,    // `unjam check` found a silent failure (docs/stability.md)
 };
 
 // Solver options as the CLI spells them, shared by every command that solves.
@@ -53,14 +54,14 @@ struct SolverFlags {
   bool require_converged = false;
 
   void Register(CLI::App& app);
-  SolverOptions Resolve() const;   // throws std::invalid_argument on a bad value
+  SolverOptions Resolve() const;  // throws std::invalid_argument on a bad value
 };
 
 // The thread count of a `--threads N` option: N, or every core for 0.
 int ThreadsFromOption(int requested);
 
-// The bundled default packing (problems/pressure-n500-mu0.5.unjam), found from the working directory
-// or the source tree.
+// The bundled default packing (problems/pressure-n500-mu0.5.unjam), found from the working
+// directory or the source tree.
 std::string DefaultPackingPath();
 
 nlohmann::json ToJson(const SolveReport& report);

@@ -20,27 +20,57 @@
 namespace unjam::cli {
 
 void BoundsFlags::Register(CLI::App& a) {
-  a.add_option("FILE", file, "static packing (.unjam); its stored forces are shown beside the bounds")->required();
-  CLI::Option* contacts_option = a.add_option("--contacts", contacts, "all, or K,K,... (the K-th force-carrying contact in the file's force order)")->capture_default_str();
-  CLI::Option* top_option = a.add_flag("--top", top, "instead of contacts, bound the critical force of each top shift of a pile (the particles `unjam perturb --top` pushes down): min and max of F_crit over the admissible networks");
-  CLI::Option* bottom_option = a.add_flag("--bottom", bottom, "the same for the bottom shifts (`unjam perturb --bottom`, pushed up)");
-  CLI::Option* down_option = a.add_option("--shift-down", shift_down, "the same for particle P alone, pushed down (`unjam perturb --shift-down P`)");
-  CLI::Option* up_option = a.add_option("--shift-up", shift_up, "the same for particle P alone, pushed up (`unjam perturb --shift-up P`)");
-  const std::vector<CLI::Option*> selections = {contacts_option, top_option, bottom_option, down_option, up_option};
+  a.add_option("FILE", file,
+               "static packing (.unjam); its stored forces are shown beside the bounds")
+      ->required();
+  CLI::Option* contacts_option =
+      a.add_option("--contacts", contacts,
+                   "all, or K,K,... (the K-th force-carrying contact in the file's force order)")
+          ->capture_default_str();
+  CLI::Option* top_option = a.add_flag(
+      "--top", top,
+      "instead of contacts, bound the critical force of each top shift of a pile (the particles "
+      "`unjam perturb --top` pushes down): min and max of F_crit over the admissible networks");
+  CLI::Option* bottom_option = a.add_flag(
+      "--bottom", bottom, "the same for the bottom shifts (`unjam perturb --bottom`, pushed up)");
+  CLI::Option* down_option =
+      a.add_option("--shift-down", shift_down,
+                   "the same for particle P alone, pushed down (`unjam perturb --shift-down P`)");
+  CLI::Option* up_option =
+      a.add_option("--shift-up", shift_up,
+                   "the same for particle P alone, pushed up (`unjam perturb --shift-up P`)");
+  const std::vector<CLI::Option*> selections = {contacts_option, top_option, bottom_option,
+                                                down_option, up_option};
   for (std::size_t i = 0; i < selections.size(); ++i) {
     for (std::size_t j = i + 1; j < selections.size(); ++j) selections[i]->excludes(selections[j]);
   }
-  a.add_option("--lp", lp, "linear-program backend: clp (simplex, warm starts) or ipopt (interior point)")->capture_default_str();
+  a.add_option("--lp", lp,
+               "linear-program backend: clp (simplex, warm starts) or ipopt (interior point)")
+      ->capture_default_str();
   a.add_flag("--cold", cold, "solve every LP from scratch (no warm start; for comparison)");
-  a.add_flag("--compare-perturb", compare_perturb, "also open each contact (or make each shift) with unjam perturb and compare F_crit with the LP interval");
-  a.add_option("--mode", mode, "cell condition of --compare-perturb: fixed-pressure or fixed-volume")->capture_default_str();
-  a.add_option("--gap-tol", gap_tolerance, "contacts with a gap up to this are contacts of the ensemble")->capture_default_str();
-  a.add_option("--threads", threads, "threads (0: all cores)")->check(cli::NonNegative())->capture_default_str();
-  CLI::Option* output_option = a.add_option("-o,--output", output, "CSV file, one row per contact; the bounds are recorded in OUTPUT.records.jsonl as they come, and a rerun resumes from it");
-  CLI::Option* limit_option = a.add_option("--time-limit", time_limit,
-               "start no LP after S seconds of this run; the bounds so far stay in OUTPUT.records.jsonl and the same command continues (contacts only)")
-      ->needs(output_option);
-  for (CLI::Option* shifts : {top_option, bottom_option, down_option, up_option}) limit_option->excludes(shifts);
+  a.add_flag("--compare-perturb", compare_perturb,
+             "also open each contact (or make each shift) with unjam perturb and compare F_crit "
+             "with the LP interval");
+  a.add_option("--mode", mode,
+               "cell condition of --compare-perturb: fixed-pressure or fixed-volume")
+      ->capture_default_str();
+  a.add_option("--gap-tol", gap_tolerance,
+               "contacts with a gap up to this are contacts of the ensemble")
+      ->capture_default_str();
+  a.add_option("--threads", threads, "threads (0: all cores)")
+      ->check(cli::NonNegative())
+      ->capture_default_str();
+  CLI::Option* output_option =
+      a.add_option("-o,--output", output,
+                   "CSV file, one row per contact; the bounds are recorded in OUTPUT.records.jsonl "
+                   "as they come, and a rerun resumes from it");
+  CLI::Option* limit_option =
+      a.add_option("--time-limit", time_limit,
+                   "start no LP after S seconds of this run; the bounds so far stay in "
+                   "OUTPUT.records.jsonl and the same command continues (contacts only)")
+          ->needs(output_option);
+  for (CLI::Option* shifts : {top_option, bottom_option, down_option, up_option})
+    limit_option->excludes(shifts);
   a.add_flag("--json", json, "one JSON object on stdout");
   a.add_flag("--quiet", quiet, "no progress on stderr");
 }
@@ -59,7 +89,8 @@ using Clock = std::chrono::steady_clock;
 
 // System contact indices of the selection: every contact of the ensemble, or the K-th
 // force-carrying contacts of the file (the numbering of `unjam perturb --contact K`).
-std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, const EquilibriumSystem& s) {
+std::vector<int> SelectContacts(const std::string& spec, const Scene& scene,
+                                const EquilibriumSystem& s) {
   std::vector<int> out;
   if (spec == "all") {
     for (int k = 0; k < static_cast<int>(s.contacts.size()); ++k) out.push_back(k);
@@ -76,12 +107,16 @@ std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, con
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != item.size() || item.empty()) throw std::invalid_argument("--contacts: '" + item + "' is not a contact number (use all, or K,K,...)");
+    if (used != item.size() || item.empty())
+      throw std::invalid_argument("--contacts: '" + item +
+                                  "' is not a contact number (use all, or K,K,...)");
     if (k < 0 || k >= static_cast<int>(carrying.size())) {
-      throw std::invalid_argument("--contacts: " + item + " is out of range (the packing has " + std::to_string(carrying.size()) + " force-carrying contacts)");
+      throw std::invalid_argument("--contacts: " + item + " is out of range (the packing has " +
+                                  std::to_string(carrying.size()) + " force-carrying contacts)");
     }
     const int index = FindContact(s.contacts, carrying[k].i, carrying[k].j, carrying[k].image);
-    if (index < 0) throw std::invalid_argument("--contacts: contact " + item + " has a gap above --gap-tol");
+    if (index < 0)
+      throw std::invalid_argument("--contacts: contact " + item + " has a gap above --gap-tol");
     if (std::find(out.begin(), out.end(), index) != out.end()) {
       throw std::invalid_argument("--contacts: contact " + item + " is listed twice");
     }
@@ -91,15 +126,19 @@ std::vector<int> SelectContacts(const std::string& spec, const Scene& scene, con
 }
 
 struct Comparison {
-  std::vector<double> f_crit;        // NaN where the perturbation has no usable response
+  std::vector<double> f_crit;  // NaN where the perturbation has no usable response
   std::vector<std::string> status;
   // Per contact: 1 if the quasi-static F_crit lies in [LP min, LP max without friction],
   // 0 if not, −1 where that does not apply (no quasi-static F_crit, or no such interval).
   std::vector<int> inside;
   int used = 0;
   double mean_rel_diff = std::nan(""), max_rel_diff = std::nan("");
-  int WithStatus(const std::string& s) const { return static_cast<int>(std::count(status.begin(), status.end(), s)); }
-  int WithInside(int value) const { return static_cast<int>(std::count(inside.begin(), inside.end(), value)); }
+  int WithStatus(const std::string& s) const {
+    return static_cast<int>(std::count(status.begin(), status.end(), s));
+  }
+  int WithInside(int value) const {
+    return static_cast<int>(std::count(inside.begin(), inside.end(), value));
+  }
 };
 
 // A static opening is held by a network in which the opened contact carries no tangential
@@ -111,12 +150,13 @@ int InsideInterval(const ContactBounds& b, const PerturbationResult& r) {
   if (!b.min.ok() || !b.max_without_friction.ok()) return 0;
   // Both sides carry the LP's and the perturbation's tolerances, about 1e-6 relative, and
   // F_crit its inertial part (a frictionless opening's F_crit is F_cont plus exactly that).
-  const double tol = 1e-6 * (std::abs(b.max_without_friction.value) + b.reference) + r.inertial_force;
+  const double tol =
+      1e-6 * (std::abs(b.max_without_friction.value) + b.reference) + r.inertial_force;
   return r.f_crit >= b.min.value - tol && r.f_crit <= b.max_without_friction.value + tol ? 1 : 0;
 }
 
-Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s, const BoundsReport& report,
-                                const BoundsFlags& f, int threads) {
+Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s,
+                                const BoundsReport& report, const BoundsFlags& f, int threads) {
   PerturbationOptions o;
   o.cell = CellConditionFromString(f.mode);
   const PerturbationBase base = PreparePerturbations(scene, o);
@@ -157,17 +197,20 @@ std::string Number(const Bound& b) { return b.ok() ? ExactNumber(b.value) : ""; 
 
 std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Comparison* cmp) {
   std::ostringstream os;
-  os << "contact,i,j,image_x,image_y,f_cont,min,max,max_without_friction,status_min,status_max,status_without_friction";
+  os << "contact,i,j,image_x,image_y,f_cont,min,max,max_without_friction,status_min,status_max,"
+        "status_without_friction";
   if (cmp) os << ",f_crit,perturbation_status,inside_interval";
   os << "\n";
   for (std::size_t a = 0; a < r.bounds.size(); ++a) {
     const ContactBounds& b = r.bounds[a];
     const Contact& c = s.contacts[b.contact];
-    os << b.contact << ',' << c.i << ',' << c.j << ',' << c.image[0] << ',' << c.image[1] << ',' << ExactNumber(b.reference) << ','
-       << Number(b.min) << ',' << Number(b.max) << ',' << Number(b.max_without_friction) << ','
-       << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << ToString(b.max_without_friction.status);
+    os << b.contact << ',' << c.i << ',' << c.j << ',' << c.image[0] << ',' << c.image[1] << ','
+       << ExactNumber(b.reference) << ',' << Number(b.min) << ',' << Number(b.max) << ','
+       << Number(b.max_without_friction) << ',' << ToString(b.min.status) << ','
+       << ToString(b.max.status) << ',' << ToString(b.max_without_friction.status);
     if (cmp) {
-      os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << cmp->status[a] << ',' << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
+      os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << cmp->status[a] << ','
+         << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
     }
     os << "\n";
   }
@@ -185,7 +228,8 @@ long long BoundsTotal(const EquilibriumSystem& s, std::size_t selected) {
 class BoundsProgress {
  public:
   BoundsProgress(long long total, long long known, int rank, int ranks, bool quiet)
-      : total_(total), obtained_(known), rank_(rank), ranks_(ranks), quiet_(quiet), start_(Clock::now()), last_(start_) {}
+      : total_(total), obtained_(known), rank_(rank), ranks_(ranks), quiet_(quiet),
+        start_(Clock::now()), last_(start_) {}
   void Add() {
     ++obtained_;
     ++this_run_;
@@ -197,9 +241,10 @@ class BoundsProgress {
       std::fprintf(stderr, "bounds rank %d: %lld bounds in %.0f s\n", rank_, this_run_, seconds);
       return;
     }
-    std::fprintf(stderr, "bounds: %lld of %lld (%.1f %%) in %.0f s, about %.0f s to go\n", obtained_, total_,
-                 100.0 * static_cast<double>(obtained_) / static_cast<double>(total_), seconds,
-                 seconds / static_cast<double>(this_run_) * static_cast<double>(total_ - obtained_));
+    std::fprintf(
+        stderr, "bounds: %lld of %lld (%.1f %%) in %.0f s, about %.0f s to go\n", obtained_, total_,
+        100.0 * static_cast<double>(obtained_) / static_cast<double>(total_), seconds,
+        seconds / static_cast<double>(this_run_) * static_cast<double>(total_ - obtained_));
   }
 
  private:
@@ -211,39 +256,52 @@ class BoundsProgress {
 
 // --time-limit ended the run before every bound was obtained: no CSV; what was obtained is
 // in the records, from which the same command continues.
-int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected, long long lp_iterations,
-                       double lp_seconds, const BoundsRecords& records, Clock::time_point start) {
+int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected,
+                       long long lp_iterations, double lp_seconds, const BoundsRecords& records,
+                       Clock::time_point start) {
   const long long total = BoundsTotal(s, selected);
   const long long obtained = records.Obtained();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (f.json) {
-    const nlohmann::json out = {{"file", f.file}, {"contacts", selected}, {"ensemble_contacts", s.contacts.size()},
-                                {"complete", false}, {"bounds_obtained", obtained}, {"bounds_total", total},
-                                {"records", records.Path().string()}, {"lp_iterations", lp_iterations},
-                                {"lp_seconds", lp_seconds}, {"seconds", seconds}};
+    const nlohmann::json out = {{"file", f.file},
+                                {"contacts", selected},
+                                {"ensemble_contacts", s.contacts.size()},
+                                {"complete", false},
+                                {"bounds_obtained", obtained},
+                                {"bounds_total", total},
+                                {"records", records.Path().string()},
+                                {"lp_iterations", lp_iterations},
+                                {"lp_seconds", lp_seconds},
+                                {"seconds", seconds}};
     std::printf("%s\n", out.dump().c_str());
   } else {
     std::printf("contacts           %zu of %zu in the ensemble\n", selected, s.contacts.size());
     std::printf("incomplete         %lld of %lld bounds obtained\n", obtained, total);
-    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations)\n", seconds, lp_seconds, lp_iterations);
+    std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations)\n", seconds,
+                lp_seconds, lp_iterations);
   }
   if (!f.quiet) {
-    std::fprintf(stderr, "bounds: stopped at the time limit with %lld of %lld bounds; the same command continues from %s\n",
+    std::fprintf(stderr,
+                 "bounds: stopped at the time limit with %lld of %lld bounds; the same command "
+                 "continues from %s\n",
                  obtained, total, records.Path().string().c_str());
   }
   return kOk;
 }
 
-BoundsOptions BoundsOptionsFrom(const BoundsFlags& f, LpBackend lp, int threads, Clock::time_point start) {
+BoundsOptions BoundsOptionsFrom(const BoundsFlags& f, LpBackend lp, int threads,
+                                Clock::time_point start) {
   BoundsOptions bo;
   bo.warm_start = !f.cold;
   bo.lp = lp;
   bo.threads = threads;
   if (f.time_limit) {
     if (!(std::isfinite(*f.time_limit) && *f.time_limit >= 0.0)) {
-      throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " + Format("%g", *f.time_limit));
+      throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " +
+                                  Format("%g", *f.time_limit));
     }
-    bo.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
+    bo.start_before = start + std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(*f.time_limit));
   }
   return bo;
 }
@@ -251,8 +309,8 @@ BoundsOptions BoundsOptionsFrom(const BoundsFlags& f, LpBackend lp, int threads,
 // Rank 0 of an mpirun, once every rank is done: the ranks' records merged, and the report
 // made from them alone, without an LP (a bound that no rank obtained in its time leaves
 // the report incomplete).
-BoundsReport GatherRanks(const EquilibriumSystem& system, const std::vector<int>& selected, const Eigen::VectorXd& stored,
-                         BoundsRecords& records) {
+BoundsReport GatherRanks(const EquilibriumSystem& system, const std::vector<int>& selected,
+                         const Eigen::VectorXd& stored, BoundsRecords& records) {
   records.Merge();
   return BoundsFromRecords(system, selected, stored, records.Known());
 }
@@ -270,7 +328,8 @@ BoundsTally Tally(const BoundsReport& report) {
       t.reference_sum += b.reference;
       ++t.references;
     }
-    if (b.max_without_friction.status == BoundStatus::kInfeasible && report.feasible) ++t.no_pure_opening;
+    if (b.max_without_friction.status == BoundStatus::kInfeasible && report.feasible)
+      ++t.no_pure_opening;
     if (b.min.ok() && b.max.ok()) {
       t.width_sum += b.max.value - b.min.value;
       ++t.widths;
@@ -283,28 +342,38 @@ BoundsTally Tally(const BoundsReport& report) {
 
 // The text summary, from the JSON one (a null number, a mean over nothing, prints as nan).
 void PrintBoundsSummary(const nlohmann::json& j, double gap_tolerance, const char* lp_kind) {
-  auto num = [&](const char* key) { return j[key].is_null() ? std::nan("") : j[key].get<double>(); };
+  auto num = [&](const char* key) {
+    return j[key].is_null() ? std::nan("") : j[key].get<double>();
+  };
   auto integer = [&](const char* key) { return j[key].get<int>(); };
   const std::string message = j["message"].get<std::string>();
-  std::printf("contacts           %zu of %zu in the ensemble (gap <= %.3g)\n", j["contacts"].get<std::size_t>(),
-              j["ensemble_contacts"].get<std::size_t>(), gap_tolerance);
-  std::printf("ensemble           %s%s%s\n", j["feasible"].get<bool>() ? "feasible" : "INFEASIBLE", message.empty() ? "" : ": ", message.c_str());
-  std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n", integer("indeterminacy_dimension"), integer("unknowns"),
-              integer("rank"), num("rank_tolerance"));
+  std::printf("contacts           %zu of %zu in the ensemble (gap <= %.3g)\n",
+              j["contacts"].get<std::size_t>(), j["ensemble_contacts"].get<std::size_t>(),
+              gap_tolerance);
+  std::printf("ensemble           %s%s%s\n", j["feasible"].get<bool>() ? "feasible" : "INFEASIBLE",
+              message.empty() ? "" : ": ", message.c_str());
+  std::printf("indeterminacy      %d (unknowns %d, rank %d, tolerance %.2e)\n",
+              integer("indeterminacy_dimension"), integer("unknowns"), integer("rank"),
+              num("rank_tolerance"));
   if (integer("rank_qr_transpose") != integer("rank_qr_a")) {
-    std::printf("                   (QR estimates of the rank: %d from A, %d from its transpose)\n", integer("rank_qr_a"), integer("rank_qr_transpose"));
+    std::printf("                   (QR estimates of the rank: %d from A, %d from its transpose)\n",
+                integer("rank_qr_a"), integer("rank_qr_transpose"));
   }
   if (integer("bounded_contacts") > 0) {
-    std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n", num("mean_width"),
-                integer("bounded_contacts"), integer("unbounded_or_failed"));
+    std::printf("mean width         %.6g (max - min of f_n, %d contacts; %d unbounded or failed)\n",
+                num("mean_width"), integer("bounded_contacts"), integer("unbounded_or_failed"));
   }
   if (j.contains("compared")) {
-    std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n", integer("compared"), num("mean_rel_diff_fcrit"), num("max_rel_diff_fcrit"));
-    std::printf("openings           %d quasi-static (%d inside [LP min, LP max without friction], %d outside), %d dynamic\n",
-                integer("quasi_static"), integer("inside_interval"), integer("outside_interval"), integer("dynamic"));
+    std::printf("F_crit vs LP max   %d compared, mean |rel diff| %.3g, max %.3g\n",
+                integer("compared"), num("mean_rel_diff_fcrit"), num("max_rel_diff_fcrit"));
+    std::printf(
+        "openings           %d quasi-static (%d inside [LP min, LP max without friction], %d "
+        "outside), %d dynamic\n",
+        integer("quasi_static"), integer("inside_interval"), integer("outside_interval"),
+        integer("dynamic"));
   }
-  std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", num("seconds"), num("lp_seconds"),
-              j["lp_iterations"].get<long long>(), lp_kind);
+  std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", num("seconds"),
+              num("lp_seconds"), j["lp_iterations"].get<long long>(), lp_kind);
 }
 
 }  // namespace
@@ -318,7 +387,10 @@ int RunBounds(const BoundsFlags& f) {
   CellConditionFromString(f.mode);
   const Scene scene = ReadPacking(f.file);
   if (f.compare_perturb && scene.forces.empty()) {
-    throw InputError(f.file, 0, "stores no static forces, which --compare-perturb starts from: run `unjam solve " + f.file + " -o FILE` first");
+    throw InputError(
+        f.file, 0,
+        "stores no static forces, which --compare-perturb starts from: run `unjam solve " + f.file +
+            " -o FILE` first");
   }
   const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
   const std::vector<int> selected = SelectContacts(f.contacts, scene, system);
@@ -326,7 +398,9 @@ int RunBounds(const BoundsFlags& f) {
   BoundsOptions bo = BoundsOptionsFrom(f, lp, threads, start);
   MpiSession* mpi = CurrentMpiSession();
   const int rank = mpi != nullptr ? mpi->rank() : 0, ranks = mpi != nullptr ? mpi->size() : 1;
-  if (ranks > 1 && f.output.empty()) throw std::invalid_argument("under mpirun, -o FILE is needed: the ranks share their records beside it");
+  if (ranks > 1 && f.output.empty())
+    throw std::invalid_argument(
+        "under mpirun, -o FILE is needed: the ranks share their records beside it");
   bo.shares = ranks;
   bo.share = rank;
   // One run per output (docs/cli.md, "One run per output"): FILE.lock for rank 0, or a run
@@ -338,10 +412,12 @@ int RunBounds(const BoundsFlags& f) {
     lock.emplace(RankPath(f.output + ".lock", rank), f.output);
     records.emplace(f, system, selected.size(), bo, rank);
     bo.known = records->Known();
-    if (!bo.known.empty() && rank == 0 && !f.quiet) std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(), records->Path().string().c_str());
+    if (!bo.known.empty() && rank == 0 && !f.quiet)
+      std::fprintf(stderr, "bounds: resuming, %zu bounds recorded in %s\n", bo.known.size(),
+                   records->Path().string().c_str());
   }
-  BoundsProgress progress(BoundsTotal(system, selected.size()), static_cast<long long>(bo.known.size()),
-                          rank, ranks, f.quiet);
+  BoundsProgress progress(BoundsTotal(system, selected.size()),
+                          static_cast<long long>(bo.known.size()), rank, ranks, f.quiet);
   bo.on_bound = [&](const BoundRecord& r) {
     if (records) records->Add(r);
     progress.Add();
@@ -361,10 +437,13 @@ int RunBounds(const BoundsFlags& f) {
       lps_skipped = records->ShortcutsThisRun();
     }
   }
-  if (!report.complete) return StoppedAtTimeLimit(f, system, selected.size(), lp_iterations, lp_seconds, *records, start);
+  if (!report.complete)
+    return StoppedAtTimeLimit(f, system, selected.size(), lp_iterations, lp_seconds, *records,
+                              start);
   const Indeterminacy nd = ForceIndeterminacy(system);
   std::optional<Comparison> cmp;
-  if (f.compare_perturb && report.feasible) cmp = ComparePerturbations(scene, system, report, f, threads);
+  if (f.compare_perturb && report.feasible)
+    cmp = ComparePerturbations(scene, system, report, f, threads);
 
   const BoundsTally tally = Tally(report);
   if (records) {
@@ -372,17 +451,37 @@ int RunBounds(const BoundsFlags& f) {
     records->Remove();
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  nlohmann::json out = {{"file", f.file}, {"contacts", selected.size()}, {"ensemble_contacts", system.contacts.size()},
-                        {"unknowns", nd.unknowns}, {"equations", nd.equations}, {"rank", nd.rank}, {"rank_qr_a", nd.rank_of_a}, {"rank_qr_transpose", nd.rank_transposed},
-                        {"rank_tolerance", nd.tolerance}, {"indeterminacy_dimension", nd.dimension},
-                        {"feasible", report.feasible}, {"message", report.message},
-                        {"mean_width", tally.widths > 0 ? nlohmann::json(tally.width_sum / tally.widths) : nlohmann::json(nullptr)},
-                        {"bounded_contacts", tally.widths}, {"unbounded_or_failed", tally.failed},
-                        {"mean_fcont", tally.references > 0 ? nlohmann::json(tally.reference_sum / tally.references) : nlohmann::json(nullptr)},
-                        {"no_frictionless_equilibrium", tally.no_pure_opening},
-                        {"lp", f.lp}, {"warm_start", lp == LpBackend::kClp && !f.cold}, {"lp_iterations", lp_iterations}, {"lps_skipped", lps_skipped},
-                        {"bounds_resumed", records ? records->Resumed() : 0}, {"lp_iterations_resumed", records ? records->ResumedIterations() : 0}, {"complete", true},
-                        {"lp_seconds", lp_seconds}, {"threads", lp == LpBackend::kIpopt ? 1 : threads}, {"ranks", ranks}, {"seconds", seconds}};
+  nlohmann::json out = {
+      {"file", f.file},
+      {"contacts", selected.size()},
+      {"ensemble_contacts", system.contacts.size()},
+      {"unknowns", nd.unknowns},
+      {"equations", nd.equations},
+      {"rank", nd.rank},
+      {"rank_qr_a", nd.rank_of_a},
+      {"rank_qr_transpose", nd.rank_transposed},
+      {"rank_tolerance", nd.tolerance},
+      {"indeterminacy_dimension", nd.dimension},
+      {"feasible", report.feasible},
+      {"message", report.message},
+      {"mean_width",
+       tally.widths > 0 ? nlohmann::json(tally.width_sum / tally.widths) : nlohmann::json(nullptr)},
+      {"bounded_contacts", tally.widths},
+      {"unbounded_or_failed", tally.failed},
+      {"mean_fcont", tally.references > 0 ? nlohmann::json(tally.reference_sum / tally.references)
+                                          : nlohmann::json(nullptr)},
+      {"no_frictionless_equilibrium", tally.no_pure_opening},
+      {"lp", f.lp},
+      {"warm_start", lp == LpBackend::kClp && !f.cold},
+      {"lp_iterations", lp_iterations},
+      {"lps_skipped", lps_skipped},
+      {"bounds_resumed", records ? records->Resumed() : 0},
+      {"lp_iterations_resumed", records ? records->ResumedIterations() : 0},
+      {"complete", true},
+      {"lp_seconds", lp_seconds},
+      {"threads", lp == LpBackend::kIpopt ? 1 : threads},
+      {"ranks", ranks},
+      {"seconds", seconds}};
   if (cmp) {
     out["compared"] = cmp->used;
     out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
@@ -394,7 +493,11 @@ int RunBounds(const BoundsFlags& f) {
   }
   if (!f.output.empty()) out["output"] = f.output;
   if (f.json) std::printf("%s\n", out.dump().c_str());
-  else PrintBoundsSummary(out, f.gap_tolerance, lp == LpBackend::kIpopt ? "ipopt" : f.cold ? "cold" : "warm");
+  else
+    PrintBoundsSummary(out, f.gap_tolerance,
+                       lp == LpBackend::kIpopt ? "ipopt"
+                       : f.cold                ? "cold"
+                                               : "warm");
   return report.feasible ? kOk : kNotConverged;
 }
 

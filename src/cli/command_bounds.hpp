@@ -17,7 +17,7 @@ namespace unjam::cli {
 struct BoundsFlags {
   std::string file;
   std::string contacts = "all";
-  bool top = false;     // particle shifts instead of contacts (RunShiftBounds)
+  bool top = false;  // particle shifts instead of contacts (RunShiftBounds)
   bool bottom = false;
   std::optional<int> shift_down;  // one particle's shift (RunShiftBounds)
   std::optional<int> shift_up;
@@ -31,7 +31,7 @@ struct BoundsFlags {
   std::string output;
   std::optional<double> time_limit;  // seconds: no LP starts after it (contacts only)
   bool json = false;
-  bool quiet = false;   // no progress on stderr
+  bool quiet = false;  // no progress on stderr
 
   void Register(CLI::App& app);
   // The ensemble's contacts: gaps up to --gap-tol (checked: std::invalid_argument).

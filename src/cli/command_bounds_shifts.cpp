@@ -1,6 +1,6 @@
-// `unjam bounds FILE (--top | --bottom | --shift-down P | --shift-up P) [--compare-perturb]`: the interval of each particle
-// shift's critical force over the admissible networks (shift_bounds.hpp), beside the stored
-// network's value and, on request, the F_crit that `unjam perturb` finds.
+// `unjam bounds FILE (--top | --bottom | --shift-down P | --shift-up P) [--compare-perturb]`: the
+// interval of each particle shift's critical force over the admissible networks (shift_bounds.hpp),
+// beside the stored network's value and, on request, the F_crit that `unjam perturb` finds.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -22,12 +22,17 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct ShiftComparison {
-  std::vector<double> f_crit;        // resolved quasi-static answers (`ok` or `nonlinear`); NaN otherwise
-  std::vector<double> f_crit_10xi;   // the answer at 10ξ of the small-gap check
+  std::vector<double> f_crit;  // resolved quasi-static answers (`ok` or `nonlinear`); NaN otherwise
+  std::vector<double> f_crit_10xi;  // the answer at 10ξ of the small-gap check
   std::vector<std::string> status;
-  std::vector<int> inside;           // 1 / 0: a quasi-static F_crit inside [min, max] or not; −1: no such F_crit
-  int WithStatus(const std::string& s) const { return static_cast<int>(std::count(status.begin(), status.end(), s)); }
-  int WithInside(int value) const { return static_cast<int>(std::count(inside.begin(), inside.end(), value)); }
+  std::vector<int>
+      inside;  // 1 / 0: a quasi-static F_crit inside [min, max] or not; −1: no such F_crit
+  int WithStatus(const std::string& s) const {
+    return static_cast<int>(std::count(status.begin(), status.end(), s));
+  }
+  int WithInside(int value) const {
+    return static_cast<int>(std::count(inside.begin(), inside.end(), value));
+  }
 };
 
 // Both sides carry the LP's and the step's tolerances (about 1e-6 of the forces), and
@@ -36,7 +41,8 @@ struct ShiftComparison {
 // solver's member of the step's family, at ξ or at 10ξ, is an admissible network.
 bool Inside(const ShiftBounds& b, double f_y, double f_crit, double inertial_force) {
   const double tol = 1e-6 * (std::abs(b.max.ok() ? b.max.value : 0.0) + f_y) + inertial_force;
-  return (!b.min.ok() || f_crit >= b.min.value - tol) && (!b.max.ok() || f_crit <= b.max.value + tol);
+  return (!b.min.ok() || f_crit >= b.min.value - tol) &&
+         (!b.max.ok() || f_crit <= b.max.value + tol);
 }
 
 bool Decided(const Bound& b) { return b.ok() || b.status == BoundStatus::kUnbounded; }
@@ -47,36 +53,44 @@ int InsideInterval(const ShiftBounds& b, double f_y, const PerturbationResult& r
   return std::isnan(r.fcrit_10xi) || Inside(b, f_y, r.fcrit_10xi, 10.0 * r.inertial_force) ? 1 : 0;
 }
 
-ShiftComparison CompareShifts(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
-                              const ShiftBoundsReport& report, const std::vector<double>& f_y, int threads) {
+ShiftComparison CompareShifts(const PerturbationBase& base,
+                              const std::vector<PerturbationTarget>& targets,
+                              const ShiftBoundsReport& report, const std::vector<double>& f_y,
+                              int threads) {
   ShiftComparison out;
   out.f_crit.assign(targets.size(), std::nan(""));
   out.f_crit_10xi.assign(targets.size(), std::nan(""));
   out.status.assign(targets.size(), "");
   out.inside.assign(targets.size(), -1);
-  PerturbAll(base, targets, PerturbationOptions{}, threads, [&](int k, const PerturbationResult& r) {
-    out.status[k] = r.status;
-    out.inside[k] = InsideInterval(report.bounds[k], f_y[k], r);
-    if (!r.resolved || !r.quasi_static) return;
-    out.f_crit[k] = r.f_crit;
-    out.f_crit_10xi[k] = r.fcrit_10xi;
-  });
+  PerturbAll(base, targets, PerturbationOptions{}, threads,
+             [&](int k, const PerturbationResult& r) {
+               out.status[k] = r.status;
+               out.inside[k] = InsideInterval(report.bounds[k], f_y[k], r);
+               if (!r.resolved || !r.quasi_static) return;
+               out.f_crit[k] = r.f_crit;
+               out.f_crit_10xi[k] = r.fcrit_10xi;
+             });
   return out;
 }
 
-std::string Csv(const Scene& scene, const ShiftBoundsReport& r, const std::vector<double>& f_y, const ShiftComparison* cmp) {
+std::string Csv(const Scene& scene, const ShiftBoundsReport& r, const std::vector<double>& f_y,
+                const ShiftComparison* cmp) {
   auto number = [](const Bound& b) { return b.ok() ? ExactNumber(b.value) : std::string(); };
   std::ostringstream os;
-  os << "particle,direction_x,direction_y,x,y,f_y,f_static,min,max,status_min,status_max,unloaded_contacts";
+  os << "particle,direction_x,direction_y,x,y,f_y,f_static,min,max,status_min,status_max,unloaded_"
+        "contacts";
   if (cmp) os << ",f_crit,f_crit_10xi,perturbation_status,inside_interval";
   os << "\n";
   for (std::size_t a = 0; a < r.bounds.size(); ++a) {
     const ShiftBounds& b = r.bounds[a];
     const Vec2& x = scene.particles[b.target.particle].position;
-    os << b.target.particle << ',' << b.target.direction.x() << ',' << b.target.direction.y() << ',' << ExactNumber(x.x()) << ','
-       << ExactNumber(x.y()) << ',' << ExactNumber(f_y[a]) << ',' << ExactNumber(b.reference) << ',' << number(b.min) << ','
-       << number(b.max) << ',' << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << b.unloaded_contacts;
-    if (cmp) os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << ExactNumber(cmp->f_crit_10xi[a]) << ',' << cmp->status[a] << ',' << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
+    os << b.target.particle << ',' << b.target.direction.x() << ',' << b.target.direction.y() << ','
+       << ExactNumber(x.x()) << ',' << ExactNumber(x.y()) << ',' << ExactNumber(f_y[a]) << ','
+       << ExactNumber(b.reference) << ',' << number(b.min) << ',' << number(b.max) << ','
+       << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << b.unloaded_contacts;
+    if (cmp)
+      os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << ExactNumber(cmp->f_crit_10xi[a]) << ','
+         << cmp->status[a] << ',' << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
     os << "\n";
   }
   return os.str();
@@ -111,7 +125,9 @@ Means Summarise(const ShiftBoundsReport& r, const std::vector<double>& f_y, doub
   return m;
 }
 
-nlohmann::json MeanOrNull(const Means& m, double value) { return m.bounded > 0 ? NumberOrNull(value) : nlohmann::json(nullptr); }
+nlohmann::json MeanOrNull(const Means& m, double value) {
+  return m.bounded > 0 ? NumberOrNull(value) : nlohmann::json(nullptr);
+}
 
 // The shifts the flags ask for, and how the summary names them.
 struct ShiftSelection {
@@ -125,40 +141,59 @@ ShiftSelection SelectShifts(const BoundsFlags& f, const PerturbationBase& base) 
   if (f.bottom) return {BottomTargets(base), "bottom", "bottom (pushed up)"};
   const bool down = f.shift_down.has_value();
   const int particle = down ? *f.shift_down : *f.shift_up;
-  return {{ShiftOption(base, down, particle)}, down ? "down" : "up",
+  return {{ShiftOption(base, down, particle)},
+          down ? "down" : "up",
           "of particle " + std::to_string(particle) + (down ? " (pushed down)" : " (pushed up)")};
 }
 
 // The text summary of a run.
-void PrintShiftBounds(const ShiftSelection& selection, std::size_t shifts, const ShiftBoundsReport& report, const Means& m,
+void PrintShiftBounds(const ShiftSelection& selection, std::size_t shifts,
+                      const ShiftBoundsReport& report, const Means& m,
                       const std::optional<ShiftComparison>& cmp, double seconds, bool cold) {
   std::printf("shifts             %zu %s\n", shifts, selection.description.c_str());
-  std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE", report.message.empty() ? "" : ": ", report.message.c_str());
-  std::printf("bounded            %d of %zu (no upper bound, a network resists any push: %d; no lower bound: %d; failed: %d)\n",
-              m.bounded, shifts, m.no_upper_bound, m.no_lower_bound, m.failed);
-  std::printf("need no force      %d (max below perturb's rattler threshold: rattlers whatever the solver)\n", m.need_no_force);
+  std::printf("ensemble           %s%s%s\n", report.feasible ? "feasible" : "INFEASIBLE",
+              report.message.empty() ? "" : ": ", report.message.c_str());
+  std::printf(
+      "bounded            %d of %zu (no upper bound, a network resists any push: %d; no lower "
+      "bound: %d; failed: %d)\n",
+      m.bounded, shifts, m.no_upper_bound, m.no_lower_bound, m.failed);
+  std::printf(
+      "need no force      %d (max below perturb's rattler threshold: rattlers whatever the "
+      "solver)\n",
+      m.need_no_force);
   if (m.bounded > 0) {
-    std::printf("means              F_y %.6g, F_crit of the stored network %.6g, LP min %.6g, LP max %.6g\n", m.f_y, m.f_static, m.min, m.max);
+    std::printf(
+        "means              F_y %.6g, F_crit of the stored network %.6g, LP min %.6g, LP max "
+        "%.6g\n",
+        m.f_y, m.f_static, m.min, m.max);
   }
   if (cmp) {
-    std::printf("perturb            %d ok, %d nonlinear (quasi-static: %d inside [LP min, LP max], %d outside), %d dynamic, %d blocked\n",
-                cmp->WithStatus("ok"), cmp->WithStatus("nonlinear"), cmp->WithInside(1), cmp->WithInside(0),
-                cmp->WithStatus("dynamic"), cmp->WithStatus("blocked"));
+    std::printf(
+        "perturb            %d ok, %d nonlinear (quasi-static: %d inside [LP min, LP max], %d "
+        "outside), %d dynamic, %d blocked\n",
+        cmp->WithStatus("ok"), cmp->WithStatus("nonlinear"), cmp->WithInside(1), cmp->WithInside(0),
+        cmp->WithStatus("dynamic"), cmp->WithStatus("blocked"));
   }
-  std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds, report.seconds, report.lp_iterations, cold ? "cold" : "warm");
+  std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds,
+              report.seconds, report.lp_iterations, cold ? "cold" : "warm");
 }
 
 }  // namespace
 
 int RunShiftBounds(const BoundsFlags& f) {
   const auto start = Clock::now();
-  if (LpBackendFromString(f.lp) != LpBackend::kClp) throw std::invalid_argument("--lp: shift bounds (--top, --bottom, --shift-down, --shift-up) use clp only");
+  if (LpBackendFromString(f.lp) != LpBackend::kClp)
+    throw std::invalid_argument(
+        "--lp: shift bounds (--top, --bottom, --shift-down, --shift-up) use clp only");
   const EquilibriumSystemOptions so = f.SystemOptions();
   std::optional<OutputLock> lock;  // one run per output, as for contacts
   if (!f.output.empty()) lock.emplace(f.output + ".lock", f.output);
   const Scene scene = ReadPacking(f.file);
   if (scene.forces.empty()) {
-    throw InputError(f.file, 0, "stores no static forces, from which the shifts are chosen: run `unjam solve " + f.file + " -o FILE` first");
+    throw InputError(
+        f.file, 0,
+        "stores no static forces, from which the shifts are chosen: run `unjam solve " + f.file +
+            " -o FILE` first");
   }
   const PerturbationBase base = PreparePerturbations(scene, PerturbationOptions{});
   const ShiftSelection selection = SelectShifts(f, base);
@@ -174,20 +209,36 @@ int RunShiftBounds(const BoundsFlags& f) {
   BoundsOptions bo;
   bo.warm_start = !f.cold;
   bo.threads = threads;
-  const ShiftBoundsReport report = ComputeShiftBounds(system, shifts, StoredForcesOf(system, scene.forces), bo);
+  const ShiftBoundsReport report =
+      ComputeShiftBounds(system, shifts, StoredForcesOf(system, scene.forces), bo);
   std::optional<ShiftComparison> cmp;
-  if (f.compare_perturb && report.feasible) cmp = CompareShifts(base, targets, report, f_y, threads);
-  if (!f.output.empty()) WriteFileAtomically(f.output, Csv(scene, report, f_y, cmp ? &*cmp : nullptr));
+  if (f.compare_perturb && report.feasible)
+    cmp = CompareShifts(base, targets, report, f_y, threads);
+  if (!f.output.empty())
+    WriteFileAtomically(f.output, Csv(scene, report, f_y, cmp ? &*cmp : nullptr));
 
   const Means m = Summarise(report, f_y, EnsembleOptions{}.rattler_force * base.mean_contact_force);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  nlohmann::json out = {{"file", f.file}, {"shifts", shifts.size()}, {"side", selection.side},
-                        {"feasible", report.feasible}, {"message", report.message},
-                        {"bounded", m.bounded}, {"no_lower_bound", m.no_lower_bound}, {"no_upper_bound", m.no_upper_bound}, {"failed", m.failed}, {"need_no_force", m.need_no_force},
-                        {"mean_fy", MeanOrNull(m, m.f_y)}, {"mean_fstatic", MeanOrNull(m, m.f_static)},
-                        {"mean_min", MeanOrNull(m, m.min)}, {"mean_max", MeanOrNull(m, m.max)},
-                        {"lp", "clp"}, {"warm_start", !f.cold}, {"lp_iterations", report.lp_iterations},
-                        {"lp_seconds", report.seconds}, {"threads", threads}, {"seconds", seconds}};
+  nlohmann::json out = {{"file", f.file},
+                        {"shifts", shifts.size()},
+                        {"side", selection.side},
+                        {"feasible", report.feasible},
+                        {"message", report.message},
+                        {"bounded", m.bounded},
+                        {"no_lower_bound", m.no_lower_bound},
+                        {"no_upper_bound", m.no_upper_bound},
+                        {"failed", m.failed},
+                        {"need_no_force", m.need_no_force},
+                        {"mean_fy", MeanOrNull(m, m.f_y)},
+                        {"mean_fstatic", MeanOrNull(m, m.f_static)},
+                        {"mean_min", MeanOrNull(m, m.min)},
+                        {"mean_max", MeanOrNull(m, m.max)},
+                        {"lp", "clp"},
+                        {"warm_start", !f.cold},
+                        {"lp_iterations", report.lp_iterations},
+                        {"lp_seconds", report.seconds},
+                        {"threads", threads},
+                        {"seconds", seconds}};
   if (cmp) {
     out["quasi_static"] = cmp->WithStatus("ok");
     out["nonlinear"] = cmp->WithStatus("nonlinear");

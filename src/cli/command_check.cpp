@@ -17,17 +17,24 @@
 namespace unjam::cli {
 
 void CheckFlags::Register(CLI::App& a) {
-  a.add_option("PATH", paths, "case files (.unjam, .dat) or folders of them (e.g. problems/hard)")->required();
-  a.add_option("--backends", backends, "backends to run, comma-separated (default: all)")->delimiter(',');
-  a.add_option("--steps", steps, "Moreau-Jean steps of each case at rest, per backend")->check(NonNegative())->capture_default_str();
+  a.add_option("PATH", paths, "case files (.unjam, .dat) or folders of them (e.g. problems/hard)")
+      ->required();
+  a.add_option("--backends", backends, "backends to run, comma-separated (default: all)")
+      ->delimiter(',');
+  a.add_option("--steps", steps, "Moreau-Jean steps of each case at rest, per backend")
+      ->check(NonNegative())
+      ->capture_default_str();
   a.add_option("--dt", dt, "time step of those steps")->check(Positive())->capture_default_str();
-  a.add_option("--max-step-seconds", max_step_seconds, "stop one (case, backend)'s steps after this long (the table says how many ran)")
+  a.add_option("--max-step-seconds", max_step_seconds,
+               "stop one (case, backend)'s steps after this long (the table says how many ran)")
       ->check(Positive())
       ->capture_default_str();
   solver.Register(a);
   a.remove_option(a.get_option("--backend"));
   a.remove_option(a.get_option("--tol"));
-  a.add_option("--tol", tolerance, "tolerance every static solve must reach (unjam residual)")->check(Positive())->capture_default_str();
+  a.add_option("--tol", tolerance, "tolerance every static solve must reach (unjam residual)")
+      ->check(Positive())
+      ->capture_default_str();
   a.add_option("-o,--output", output_dir, "directory: stability.csv");
   a.add_flag("--json", json, "one JSON object on stdout");
   a.add_flag("--quiet", quiet, "no progress on stderr");
@@ -35,7 +42,9 @@ void CheckFlags::Register(CLI::App& a) {
 
 namespace {
 
-bool IsCaseFile(const std::filesystem::path& p) { return p.extension() == ".unjam" || IsSiconosFile(p.string()); }
+bool IsCaseFile(const std::filesystem::path& p) {
+  return p.extension() == ".unjam" || IsSiconosFile(p.string());
+}
 
 // The case files of the paths: a file as it is, a folder's case files in name order.
 std::vector<std::filesystem::path> CaseFiles(const std::vector<std::string>& paths) {
@@ -73,16 +82,19 @@ StabilityRow Refused(const std::string& name, const InputError& e) {
 
 std::string Csv(const std::vector<StabilityRow>& rows) {
   std::ostringstream os;
-  os << "case,backend,contacts,status,residual,siconos_error,equilibrium,finite,reproducible,steps,max_overlap,overlap_growth,energy_change,"
+  os << "case,backend,contacts,status,residual,siconos_error,equilibrium,finite,reproducible,steps,"
+        "max_overlap,overlap_growth,energy_change,"
         "seconds,verdict,message\n";
   for (const StabilityRow& r : rows) {
     std::string message = r.message;
     std::replace(message.begin(), message.end(), '"', '\'');
     os << r.name << ',' << r.backend << ',' << r.contacts << ',' << ToString(r.report.status)
-       << Format(",%.6e,%.6e,%.6e,", r.report.residual, r.siconos_error, r.equilibrium) << (r.finite ? "true" : "false") << ','
-       << (r.reproducible ? "true" : "false") << ',' << r.steps
-       << Format(",%.6e,%.6e,%.6e,%.6e,", r.max_overlap, r.overlap_growth, r.energy_change, r.report.seconds) << ToString(r.verdict)
-       << ",\"" << message << "\"\n";
+       << Format(",%.6e,%.6e,%.6e,", r.report.residual, r.siconos_error, r.equilibrium)
+       << (r.finite ? "true" : "false") << ',' << (r.reproducible ? "true" : "false") << ','
+       << r.steps
+       << Format(",%.6e,%.6e,%.6e,%.6e,", r.max_overlap, r.overlap_growth, r.energy_change,
+                 r.report.seconds)
+       << ToString(r.verdict) << ",\"" << message << "\"\n";
   }
   return os.str();
 }
@@ -107,10 +119,11 @@ nlohmann::json Json(const StabilityRow& r) {
 }
 
 void PrintRow(std::FILE* out, const StabilityRow& r) {
-  std::fprintf(out, "%-30s %-7s %6d %-17s %9.2e %9.2e %9.2e %6d %9.2e %9.2e %8.3f  %s%s%s\n", r.name.c_str(), r.backend.c_str(),
-               r.contacts, ToString(r.report.status), r.report.residual, r.siconos_error, r.equilibrium, r.steps,
-               r.overlap_growth, r.energy_change, r.report.seconds, ToString(r.verdict), r.message.empty() ? "" : ": ",
-               r.message.substr(0, 90).c_str());
+  std::fprintf(out, "%-30s %-7s %6d %-17s %9.2e %9.2e %9.2e %6d %9.2e %9.2e %8.3f  %s%s%s\n",
+               r.name.c_str(), r.backend.c_str(), r.contacts, ToString(r.report.status),
+               r.report.residual, r.siconos_error, r.equilibrium, r.steps, r.overlap_growth,
+               r.energy_change, r.report.seconds, ToString(r.verdict),
+               r.message.empty() ? "" : ": ", r.message.substr(0, 90).c_str());
 }
 
 }  // namespace
@@ -148,16 +161,23 @@ int RunCheck(const CheckFlags& f) {
       rows.push_back(r);
     }
   }
-  const bool failed = std::any_of(rows.begin(), rows.end(), [](const StabilityRow& r) { return r.verdict == StabilityVerdict::kFailed; });
-  if (!f.output_dir.empty()) WriteFileAtomically(std::filesystem::path(f.output_dir) / "stability.csv", Csv(rows));
+  const bool failed = std::any_of(rows.begin(), rows.end(), [](const StabilityRow& r) {
+    return r.verdict == StabilityVerdict::kFailed;
+  });
+  if (!f.output_dir.empty())
+    WriteFileAtomically(std::filesystem::path(f.output_dir) / "stability.csv", Csv(rows));
   if (f.json) {
-    nlohmann::json out = {{"cases", files.size()}, {"backends", o.backends}, {"tolerance", o.solver.tolerance}, {"steps", o.steps},
+    nlohmann::json out = {{"cases", files.size()},
+                          {"backends", o.backends},
+                          {"tolerance", o.solver.tolerance},
+                          {"steps", o.steps},
                           {"failed", failed}};
     for (const StabilityRow& r : rows) out["rows"].push_back(Json(r));
     std::printf("%s\n", out.dump().c_str());
   } else {
-    std::printf("%-30s %-7s %6s %-17s %9s %9s %9s %6s %9s %9s %8s  %s\n", "case", "backend", "contacts", "status", "residual", "siconos",
-                "equilibr.", "steps", "d_overlap", "d_energy", "seconds", "verdict");
+    std::printf("%-30s %-7s %6s %-17s %9s %9s %9s %6s %9s %9s %8s  %s\n", "case", "backend",
+                "contacts", "status", "residual", "siconos", "equilibr.", "steps", "d_overlap",
+                "d_energy", "seconds", "verdict");
     for (const StabilityRow& r : rows) PrintRow(stdout, r);
   }
   return failed ? kCheckFailed : kOk;

@@ -12,8 +12,8 @@
 namespace unjam::cli {
 
 struct CheckFlags {
-  std::vector<std::string> paths;               // case files, or folders of them
-  std::vector<std::string> backends;            // empty: every available backend
+  std::vector<std::string> paths;     // case files, or folders of them
+  std::vector<std::string> backends;  // empty: every available backend
   double tolerance = 1e-10;
   int steps = 100;
   double dt = 1e-3;

@@ -19,38 +19,100 @@
 namespace unjam::cli {
 
 void PackFlags::Register(CLI::App& app) {
-  app.add_option("--protocol", protocol, "pressure: homogeneous, fully periodic cell at constant external pressure; "
-                 "gravity: pile on a rough bed, periodic in x")->check(CLI::IsMember({"pressure", "gravity"}))->required();
-  app.add_option("--n", n, "number of free disks (default 500 pressure, 1600 gravity)")->check(CLI::Range(2, 100000000));
-  app.add_option("--mu", mu, "Coulomb friction coefficient")->check(cli::NonNegative())->capture_default_str();
-  app.add_option("--pressure", pressure, "external pressure P_ext (pressure protocol)")->check(cli::Positive())->capture_default_str();
-  app.add_option("--cell-mass", cell_mass, "barostat cell mass M_lambda (pressure protocol)")->check(cli::Positive())->capture_default_str();
-  app.add_option("--width", width, "cell width, periodic in x (gravity protocol)")->capture_default_str();
-  app.add_option("--initial-fraction", initial_fraction, "packing fraction of the dilute start (default 0.3 pressure, 0.35 gravity)");
+  app.add_option("--protocol", protocol,
+                 "pressure: homogeneous, fully periodic cell at constant external pressure; "
+                 "gravity: pile on a rough bed, periodic in x")
+      ->check(CLI::IsMember({"pressure", "gravity"}))
+      ->required();
+  app.add_option("--n", n, "number of free disks (default 500 pressure, 1600 gravity)")
+      ->check(CLI::Range(2, 100000000));
+  app.add_option("--mu", mu, "Coulomb friction coefficient")
+      ->check(cli::NonNegative())
+      ->capture_default_str();
+  app.add_option("--pressure", pressure, "external pressure P_ext (pressure protocol)")
+      ->check(cli::Positive())
+      ->capture_default_str();
+  app.add_option("--cell-mass", cell_mass, "barostat cell mass M_lambda (pressure protocol)")
+      ->check(cli::Positive())
+      ->capture_default_str();
+  app.add_option("--width", width, "cell width, periodic in x (gravity protocol)")
+      ->capture_default_str();
+  app.add_option("--initial-fraction", initial_fraction,
+                 "packing fraction of the dilute start (default 0.3 pressure, 0.35 gravity)");
   app.add_option("--seed", seed, "random seed")->capture_default_str();
-  app.add_option("--dt", dt, "time step (default 0.02 T0; T0 = R_max sqrt(rho/P_ext) = 1 at the default pressure, sqrt(R_max/g) = 1 for piles)")->check(cli::Positive());
-  app.add_option("--step-tol", step_tol, "residual tolerance of each dynamics step (default 1e-8 with newton; with the others 1e-4, tightened as (0.02 T0/dt)^2 for a larger --dt)")->check(cli::Positive());
-  app.add_option("--backend", backend, "contact solver of the dynamics steps and of the static check (nsgs, newton, ipopt, nlopt; auto: newton if mu <= 1e-4, else nsgs)")->capture_default_str();
-  app.add_option("--order", order, "NSGS sweep order of the steps and of the certificate's static solves: random, local (random blocks of neighbouring contacts: the same convergence, faster once the contacts outgrow the cache, N >= 4000), or height (contacts by height, swept up and down in turn: cheaper sweeps on piles; docs/performance.md). Default: random for a cell, height for a pile")->check(CLI::IsMember({"random", "local", "height"}));
-  app.add_option("--step-iter", step_iter, "NSGS sweeps allowed per dynamics step (default 500 pressure, 1000 gravity)")->check(cli::Positive());
-  app.add_option("--rest-speed", rest_speed, "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")->check(cli::Positive())->capture_default_str();
-  app.add_option("--check-iter", check_iter, "NSGS sweeps allowed to the static solve that checks a certified packing")->check(cli::Positive())->capture_default_str();
-  app.add_option("--refine-iter", refine_iter, "when a certificate finds no admissible forces near the last step's, refine them by a static solve from rest of at most this many NSGS sweeps and try again (0: never; docs/method.md, \"Until static\")")->check(cli::NonNegative())->capture_default_str();
-  app.add_option("--closure-gap", closure_gap, "a certificate lets contacts with gaps up to this carry force, and closes those that do by moving the particles (docs/method.md, \"Until static\")")->check(CLI::Range(1e-9, 1e-3))->capture_default_str();
-  app.add_flag("--certificate-lp", certificate_lp, "when a certificate's projections find no admissible forces, let the linear program decide (exact: it finds a network that the projection, a local method, misses, or proves that none exists; at N = 4000 about 20 s to find none, 100 s to find one)");
-  app.add_option("--threads", threads, "NSGS threads of the steps and the certificate's static solves (0: all cores). Each sweeps one domain of the contact graph; the packing is deterministic for a given thread count, and differs between counts (docs/cli.md)")->check(cli::NonNegative())->capture_default_str();
-  app.add_option("--max-steps", max_steps, "give up after this many steps")->check(cli::Positive())->capture_default_str();
+  app.add_option("--dt", dt,
+                 "time step (default 0.02 T0; T0 = R_max sqrt(rho/P_ext) = 1 at the default "
+                 "pressure, sqrt(R_max/g) = 1 for piles)")
+      ->check(cli::Positive());
+  app.add_option("--step-tol", step_tol,
+                 "residual tolerance of each dynamics step (default 1e-8 with newton; with the "
+                 "others 1e-4, tightened as (0.02 T0/dt)^2 for a larger --dt)")
+      ->check(cli::Positive());
+  app.add_option("--backend", backend,
+                 "contact solver of the dynamics steps and of the static check (nsgs, newton, "
+                 "ipopt, nlopt; auto: newton if mu <= 1e-4, else nsgs)")
+      ->capture_default_str();
+  app.add_option("--order", order,
+                 "NSGS sweep order of the steps and of the certificate's static solves: random, "
+                 "local (random blocks of neighbouring contacts: the same convergence, faster once "
+                 "the contacts outgrow the cache, N >= 4000), or height (contacts by height, swept "
+                 "up and down in turn: cheaper sweeps on piles; docs/performance.md). Default: "
+                 "random for a cell, height for a pile")
+      ->check(CLI::IsMember({"random", "local", "height"}));
+  app.add_option("--step-iter", step_iter,
+                 "NSGS sweeps allowed per dynamics step (default 500 pressure, 1000 gravity)")
+      ->check(cli::Positive());
+  app.add_option(
+         "--rest-speed", rest_speed,
+         "try to prove the packing static when the mean speed stays below this x V0 for 20 steps")
+      ->check(cli::Positive())
+      ->capture_default_str();
+  app.add_option("--check-iter", check_iter,
+                 "NSGS sweeps allowed to the static solve that checks a certified packing")
+      ->check(cli::Positive())
+      ->capture_default_str();
+  app.add_option("--refine-iter", refine_iter,
+                 "when a certificate finds no admissible forces near the last step's, refine them "
+                 "by a static solve from rest of at most this many NSGS sweeps and try again (0: "
+                 "never; docs/method.md, \"Until static\")")
+      ->check(cli::NonNegative())
+      ->capture_default_str();
+  app.add_option("--closure-gap", closure_gap,
+                 "a certificate lets contacts with gaps up to this carry force, and closes those "
+                 "that do by moving the particles (docs/method.md, \"Until static\")")
+      ->check(CLI::Range(1e-9, 1e-3))
+      ->capture_default_str();
+  app.add_flag("--certificate-lp", certificate_lp,
+               "when a certificate's projections find no admissible forces, let the linear program "
+               "decide (exact: it finds a network that the projection, a local method, misses, or "
+               "proves that none exists; at N = 4000 about 20 s to find none, 100 s to find one)");
+  app.add_option("--threads", threads,
+                 "NSGS threads of the steps and the certificate's static solves (0: all cores). "
+                 "Each sweeps one domain of the contact graph; the packing is deterministic for a "
+                 "given thread count, and differs between counts (docs/cli.md)")
+      ->check(cli::NonNegative())
+      ->capture_default_str();
+  app.add_option("--max-steps", max_steps, "give up after this many steps")
+      ->check(cli::Positive())
+      ->capture_default_str();
   app.add_option("-o,--output", output, "the packing file to write")->required();
-  app.add_option("--checkpoint", checkpoint, "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");
-  app.add_option("--checkpoint-every", checkpoint_every, "steps between checkpoints (0: none)")->check(cli::NonNegative())->capture_default_str();
+  app.add_option("--checkpoint", checkpoint,
+                 "checkpoint file (default: OUTPUT.checkpoint); an existing one is resumed");
+  app.add_option("--checkpoint-every", checkpoint_every, "steps between checkpoints (0: none)")
+      ->check(cli::NonNegative())
+      ->capture_default_str();
   app.add_flag("--json", json, "one JSON object on stdout");
   app.add_flag("--quiet", quiet, "no progress on stderr");
 }
 
 namespace {
 
-int Particles(const PackFlags& f) { return f.n > 0 ? f.n : (f.protocol == "pressure" ? 500 : 1600); }
-double InitialFraction(const PackFlags& f) { return f.initial_fraction.value_or(f.protocol == "pressure" ? 0.3 : 0.35); }
+int Particles(const PackFlags& f) {
+  return f.n > 0 ? f.n : (f.protocol == "pressure" ? 500 : 1600);
+}
+double InitialFraction(const PackFlags& f) {
+  return f.initial_fraction.value_or(f.protocol == "pressure" ? 0.3 : 0.35);
+}
 // What the two protocols' options share (their fields have the same names).
 template <class Options>
 Options CommonOptions(const PackFlags& f) {
@@ -82,7 +144,8 @@ double TimeUnit(const PackFlags& f) {
 double TimeStep(const PackFlags& f) { return f.dt.value_or(kPackingTimeStep * TimeUnit(f)); }
 
 Scene InitialScene(const PackFlags& f) {
-  return f.protocol == "pressure" ? MakeGranularGas(GasOptionsOf(f)) : MakeLoosePile(PileOptionsOf(f));
+  return f.protocol == "pressure" ? MakeGranularGas(GasOptionsOf(f))
+                                  : MakeLoosePile(PileOptionsOf(f));
 }
 
 // The shortest decimal that reads back to the same double.
@@ -101,7 +164,9 @@ std::string Provenance(const nlohmann::json& p) {
     std::replace(flag.begin(), flag.end(), '_', '-');
     line += " --" + flag;
     if (value.is_boolean()) continue;  // a flag, written only when set
-    line += " " + (value.is_number_float() ? Number(value.get<double>()) : value.is_string() ? value.get<std::string>() : value.dump());
+    line += " " + (value.is_number_float() ? Number(value.get<double>())
+                   : value.is_string()     ? value.get<std::string>()
+                                           : value.dump());
   }
   return line + " (unjam " + p["unjam"].get<std::string>() + ")";
 }
@@ -112,11 +177,13 @@ void PrintProgress(const Simulation& sim, int step, const StepReport& r) {
   if (s.effects.pressure_bath) {
     // P_in over P_ext from this step's impulses (virial) — the barostat's own measure.
     std::vector<Eigen::Vector2d> forces(sim.impulses().size());
-    for (std::size_t k = 0; k < forces.size(); ++k) forces[k] = sim.impulses()[k] / sim.options().dt;
+    for (std::size_t k = 0; k < forces.size(); ++k)
+      forces[k] = sim.impulses()[k] / sim.options().dt;
     const EquilibriumReport e = CheckEquilibrium(s, sim.contacts(), forces);
     std::fprintf(stderr, "  P_in/P_ext %.5f", e.pressure / s.effects.pressure_bath->pressure);
   }
-  std::fprintf(stderr, "  kinetic %.3e  contacts %d  sweeps %d\n", r.kinetic_energy, r.contacts, r.solve.iterations);
+  std::fprintf(stderr, "  kinetic %.3e  contacts %d  sweeps %d\n", r.kinetic_energy, r.contacts,
+               r.solve.iterations);
 }
 
 // After this many failed certificates a run prints how a creeping packing can be certified.
@@ -128,32 +195,47 @@ void PrintCheck(const RelaxReport& r) {
   std::fprintf(stderr, "static check %d after step %d: ", r.static_checks, r.steps);
   if (r.jammed) {
     const StaticSolution& s = r.final_check;
-    std::fprintf(stderr, "static (contacts closed by moving particles at most %.1e; residual %.2e, equilibrium %.2e",
-                 r.closure_displacement, s.report.residual, s.equilibrium.residual);
-    if (s.equilibrium.pressure != 0.0) std::fprintf(stderr, ", |P_in/P_ext - 1| %.2e", r.pressure_mismatch);
+    std::fprintf(
+        stderr,
+        "static (contacts closed by moving particles at most %.1e; residual %.2e, equilibrium %.2e",
+        r.closure_displacement, s.report.residual, s.equilibrium.residual);
+    if (s.equilibrium.pressure != 0.0)
+      std::fprintf(stderr, ", |P_in/P_ext - 1| %.2e", r.pressure_mismatch);
     std::fprintf(stderr, ")\n");
   } else {
     std::fprintf(stderr, "not yet (%s)\n", r.check_message.c_str());
   }
 }
 
-nlohmann::json Summary(const PackFlags& f, const Scene& result, const RelaxReport& r, double seconds) {
+nlohmann::json Summary(const PackFlags& f, const Scene& result, const RelaxReport& r,
+                       double seconds) {
   const StaticSolution& s = r.final_check;
   const Coordination z = ComputeCoordination(result, s.contacts, s.forces);
-  nlohmann::json out = {{"protocol", f.protocol}, {"particles", result.particles.size()},
-                        {"contacts", z.force_carrying_contacts}, {"packing_fraction", PackingFraction(result)},
-                        {"coordination", z.z}, {"rattlers", z.rattlers}, {"steps", r.steps},
-                        {"jammed", r.jammed}, {"static_checks", r.static_checks}, {"refined_checks", r.refined_checks},
-                        {"unconverged_steps", r.unconverged_steps}, {"max_overlap", MaxOverlap(result)},
+  nlohmann::json out = {{"protocol", f.protocol},
+                        {"particles", result.particles.size()},
+                        {"contacts", z.force_carrying_contacts},
+                        {"packing_fraction", PackingFraction(result)},
+                        {"coordination", z.z},
+                        {"rattlers", z.rattlers},
+                        {"steps", r.steps},
+                        {"jammed", r.jammed},
+                        {"static_checks", r.static_checks},
+                        {"refined_checks", r.refined_checks},
+                        {"unconverged_steps", r.unconverged_steps},
+                        {"max_overlap", MaxOverlap(result)},
                         {"closure_displacement", r.closure_displacement},
-                        {"static_solve", ToJson(s.report)}, {"equilibrium_residual", s.equilibrium.residual},
-                        {"seconds", seconds}, {"output", f.output}, {"parameters", f.Parameters()}};
-  out["pressure"] = result.effects.pressure_bath ? nlohmann::json(s.equilibrium.pressure) : nlohmann::json(nullptr);
+                        {"static_solve", ToJson(s.report)},
+                        {"equilibrium_residual", s.equilibrium.residual},
+                        {"seconds", seconds},
+                        {"output", f.output},
+                        {"parameters", f.Parameters()}};
+  out["pressure"] = result.effects.pressure_bath ? nlohmann::json(s.equilibrium.pressure)
+                                                 : nlohmann::json(nullptr);
   // Without a proven static state there are no static forces: zeros here would read as a
   // packing with no contacts and every particle a rattler.
   if (!r.jammed) {
-    for (const char* key : {"contacts", "coordination", "rattlers", "pressure", "closure_displacement",
-                            "static_solve", "equilibrium_residual"}) {
+    for (const char* key : {"contacts", "coordination", "rattlers", "pressure",
+                            "closure_displacement", "static_solve", "equilibrium_residual"}) {
       out[key] = nullptr;
     }
   }
@@ -163,7 +245,8 @@ nlohmann::json Summary(const PackFlags& f, const Scene& result, const RelaxRepor
 }  // namespace
 
 nlohmann::json PackFlags::Parameters() const {
-  nlohmann::json p = {{"unjam", UNJAM_VERSION}, {"protocol", protocol}, {"n", Particles(*this)}, {"mu", mu}};
+  nlohmann::json p = {
+      {"unjam", UNJAM_VERSION}, {"protocol", protocol}, {"n", Particles(*this)}, {"mu", mu}};
   if (protocol == "pressure") {
     p["pressure"] = pressure;
     p["cell_mass"] = cell_mass;
@@ -176,7 +259,7 @@ nlohmann::json PackFlags::Parameters() const {
   p["step_tol"] = StepTolerance();
   p["step_iter"] = StepIterations();
   if (Backend() != "nsgs") p["backend"] = Backend();  // absent from files made before the option
-  if (Order() != "random") p["order"] = Order();  // likewise
+  if (Order() != "random") p["order"] = Order();      // likewise
   p["rest_speed"] = rest_speed;
   p["check_iter"] = check_iter;
   // Written only when it is not the default, as --backend. Files made before the option
@@ -184,8 +267,8 @@ nlohmann::json PackFlags::Parameters() const {
   // added to their provenance (problems/README.md).
   if (refine_iter != PackFlags{}.refine_iter) p["refine_iter"] = refine_iter;
   if (closure_gap != PackFlags{}.closure_gap) p["closure_gap"] = closure_gap;  // likewise
-  if (certificate_lp) p["certificate_lp"] = true;                                // likewise
-  if (Threads() != 1) p["threads"] = Threads();                                 // likewise
+  if (certificate_lp) p["certificate_lp"] = true;                              // likewise
+  if (Threads() != 1) p["threads"] = Threads();                                // likewise
   return p;
 }
 
@@ -211,12 +294,16 @@ double PackFlags::StepTolerance() const {
 // A tall frictional pile creeps for ever with 500 sweeps per step (each capped step leaves
 // it a little under-supported); 1000 certify the 1600-disk piles at mu = 0.1 and 1
 // (docs/performance.md, "Time step of the packing runs").
-int PackFlags::StepIterations() const { return step_iter.value_or(protocol == "gravity" ? 1000 : 500); }
+int PackFlags::StepIterations() const {
+  return step_iter.value_or(protocol == "gravity" ? 1000 : 500);
+}
 
 // A pile's sweeps by height cost 1.4x less than random ones; whole runs took 1.3x less on
 // 13 pairs of piles and made the same piles within their seed-to-seed scatter
 // (docs/performance.md, "Piles sweep by height by default"). A cell has no height to sort by.
-std::string PackFlags::Order() const { return order.value_or(protocol == "gravity" ? "height" : "random"); }
+std::string PackFlags::Order() const {
+  return order.value_or(protocol == "gravity" ? "height" : "random");
+}
 
 // Threads change the order of the sweeps, hence the packing: the count is a parameter of
 // the packing, stored unless it is 1 (as files made before the option were).
@@ -224,10 +311,14 @@ int PackFlags::Threads() const { return ThreadsFromOption(threads); }
 
 int RunPack(const PackFlags& f) {
   const auto start = std::chrono::steady_clock::now();
-  const std::string checkpoint_path = f.checkpoint.empty() ? f.output + ".checkpoint" : f.checkpoint;
-  // The checkpoint is removed once the packing is written: in one file, the packing would go with it.
+  const std::string checkpoint_path =
+      f.checkpoint.empty() ? f.output + ".checkpoint" : f.checkpoint;
+  // The checkpoint is removed once the packing is written: in one file, the packing would
+  // go with it.
   if (SameFile(checkpoint_path, f.output)) {
-    throw std::invalid_argument("--checkpoint " + checkpoint_path + " is the output file (-o), which would be removed with the checkpoint: choose another --checkpoint");
+    throw std::invalid_argument("--checkpoint " + checkpoint_path +
+                                " is the output file (-o), which would be removed with the "
+                                "checkpoint: choose another --checkpoint");
   }
   const nlohmann::json parameters = f.Parameters();
   StepOptions step;
@@ -253,7 +344,8 @@ int RunPack(const PackFlags& f) {
   // A progress line every 1000 steps, or sooner once 10 s have passed since the last one (a
   // pile at today's time step takes about 1 500 steps, a minute or more).
   relax.progress_interval = f.quiet ? 0 : 10;
-  relax.progress = [last = std::chrono::steady_clock::now()](const Simulation& s, int step, const StepReport& r) mutable {
+  relax.progress = [last = std::chrono::steady_clock::now()](const Simulation& s, int step,
+                                                             const StepReport& r) mutable {
     const auto now = std::chrono::steady_clock::now();
     if (step % 1000 != 0 && now - last < std::chrono::seconds(10)) return;
     last = now;
@@ -264,10 +356,13 @@ int RunPack(const PackFlags& f) {
       PrintCheck(r);
       if (hinted || r.jammed || r.static_checks < kChecksBeforeHint) return;
       hinted = true;
-      std::fprintf(stderr, "hint: %d certificates failed on a calm packing. A marginal one (high friction, "
-                   "large N) can creep for a very long time; --certificate-lp --closure-gap 1e-4 let the "
-                   "certificate load contacts up to 1e-4 apart and ask the linear program "
-                   "(docs/performance.md, \"What keeps N = 4000, mu = 1 moving\")\n", r.static_checks);
+      std::fprintf(
+          stderr,
+          "hint: %d certificates failed on a calm packing. A marginal one (high friction, "
+          "large N) can creep for a very long time; --certificate-lp --closure-gap 1e-4 let the "
+          "certificate load contacts up to 1e-4 apart and ask the linear program "
+          "(docs/performance.md, \"What keeps N = 4000, mu = 1 moving\")\n",
+          r.static_checks);
     };
   }
 
@@ -289,17 +384,21 @@ int RunPack(const PackFlags& f) {
   } else {
     checkpointer.Save(sim, r);
   }
-  const double seconds = checkpointer.PreviousSeconds() +
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      checkpointer.PreviousSeconds() +
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json out = Summary(f, result, r, seconds);
   if (!r.jammed) out["output"] = nullptr;
   std::printf("%s\n", f.json ? out.dump().c_str() : out.dump(2).c_str());
   if (!r.jammed) {
-    std::fprintf(stderr, "unjam pack: not static after %d steps (%d static checks failed: %s); %s not written; %s\n",
-                 r.steps, r.static_checks, r.check_message.empty() ? "none attempted" : r.check_message.c_str(),
-                 f.output.c_str(),
-                 f.checkpoint_every > 0 ? ("rerun with a larger --max-steps to resume from " + checkpoint_path).c_str()
-                                        : "no checkpoint (--checkpoint-every 0)");
+    std::fprintf(
+        stderr,
+        "unjam pack: not static after %d steps (%d static checks failed: %s); %s not written; %s\n",
+        r.steps, r.static_checks,
+        r.check_message.empty() ? "none attempted" : r.check_message.c_str(), f.output.c_str(),
+        f.checkpoint_every > 0
+            ? ("rerun with a larger --max-steps to resume from " + checkpoint_path).c_str()
+            : "no checkpoint (--checkpoint-every 0)");
     return kNotConverged;
   }
   checkpointer.Remove();

@@ -1,4 +1,5 @@
-// `unjam perturb FILE (--contact K | --all | --sample N | --top | --bottom | --shift-down P | --shift-up P) ...`
+// `unjam perturb FILE (--contact K | --all | --sample N | --top | --bottom
+//                     | --shift-down P | --shift-up P) ...`
 #include "command_perturb.hpp"
 
 #include <algorithm>
@@ -29,51 +30,82 @@ namespace unjam::cli {
 void PerturbFlags::Register(CLI::App& a) {
   app = &a;
   a.add_option("FILE", file, "static packing with stored forces (.unjam)")->required();
-  a.add_option("--contact", contact, "open the K-th force-carrying contact (0-based, in the file's force order)");
+  a.add_option("--contact", contact,
+               "open the K-th force-carrying contact (0-based, in the file's force order)");
   a.add_flag("--all", all, "open every force-carrying contact, one by one");
   a.add_option("--sample", sample, "open N contacts drawn at random (see --seed)");
   a.add_option("--seed", seed, "seed of --sample")->capture_default_str();
   a.add_flag("--top", top, "gravity packings: push the highest particle of each bin down");
   a.add_flag("--bottom", bottom, "gravity packings: push the lowest particle of each bin up");
-  a.add_option("--shift-down", shift_down, "push particle P (0-based, in the file's order) down by xi");
+  a.add_option("--shift-down", shift_down,
+               "push particle P (0-based, in the file's order) down by xi");
   a.add_option("--shift-up", shift_up, "push particle P (0-based, in the file's order) up by xi");
-  a.add_option("--mode", mode, "contact opening: fixed-pressure or fixed-volume")->capture_default_str();
-  a.add_option("--gap", gap, "perturbation size xi (gap opened, or shift), length units")->capture_default_str();
-  a.add_option("--dt", dt, "time step of the quasi-static perturbation step")->capture_default_str();
-  a.add_option("--response-tol", response_tol, "solver tolerance as a fraction of xi (unless --tol)")->capture_default_str();
+  a.add_option("--mode", mode, "contact opening: fixed-pressure or fixed-volume")
+      ->capture_default_str();
+  a.add_option("--gap", gap, "perturbation size xi (gap opened, or shift), length units")
+      ->capture_default_str();
+  a.add_option("--dt", dt, "time step of the quasi-static perturbation step")
+      ->capture_default_str();
+  a.add_option("--response-tol", response_tol,
+               "solver tolerance as a fraction of xi (unless --tol)")
+      ->capture_default_str();
   a.add_flag("--check-linearity,!--no-check-linearity", check_linearity,
-             "solve each quasi-static response again at 10 xi; keep it only if linear in xi (else status nonlinear); "
+             "solve each quasi-static response again at 10 xi; keep it only if linear in xi (else "
+             "status nonlinear); "
              "on by default, --no-check-linearity saves the second solve")
       ->capture_default_str();
   a.add_flag("--cold-check", cold_check,
-             "the 10 xi check solves from zero impulses, as at xi, instead of continuing the answer at xi on its "
-             "stick/slide/open pattern: it then also asks that the solver pick the same member of the step's solutions at both gaps");
+             "the 10 xi check solves from zero impulses, as at xi, instead of continuing the "
+             "answer at xi on its "
+             "stick/slide/open pattern: it then also asks that the solver pick the same member of "
+             "the step's solutions at both gaps");
   a.add_option("--member", member,
-               "which solution of a step whose solutions form a family: path (the backend's), or nearest (the solution "
+               "which solution of a step whose solutions form a family: path (the backend's), or "
+               "nearest (the solution "
                "with the same motion pattern nearest the static forces, by a linear program)")
       ->check(CLI::IsMember({"path", "nearest"}))
       ->capture_default_str();
   a.add_flag("--prefer-quasi-static", prefer_quasi_static,
-             "lemke: where a run ends on a solution in which some grain moves fast enough to make the step dynamic, "
-             "try the remaining runs and report the first quasi-static solution (if none, the first solution)");
+             "lemke: where a run ends on a solution in which some grain moves fast enough to make "
+             "the step dynamic, "
+             "try the remaining runs and report the first quasi-static solution (if none, the "
+             "first solution)");
   a.add_flag("--dynamic-lp", dynamic_lp,
-             "contact openings: before solving, an LP over the contact forces bounds the step's inertial forces from "
-             "below; where that bound makes the step dynamic, report it dynamic (F_crit nan, no motion) without solving");
-  a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")->check(cli::NonNegative())->capture_default_str();
+             "contact openings: before solving, an LP over the contact forces bounds the step's "
+             "inertial forces from "
+             "below; where that bound makes the step dynamic, report it dynamic (F_crit nan, no "
+             "motion) without solving");
+  a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")
+      ->check(cli::NonNegative())
+      ->capture_default_str();
   solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;
   solver.Register(a);
-  a.get_option("--backend")->description("contact solver backend; auto: the rate solve (the quasi-rigid loading path over the self-stresses, then the step solved exactly on its contact states; docs/perturbations.md), and where it gives no definite answer the whole step by lemke on frictional packings of up to " +
-                                         std::to_string(kLemkeAutoContacts) +
-                                         " force-carrying contacts or when a lemke option is given (newton above, and at fixed volume), newton on frictionless ones");
-  a.add_option("--fallback", fallback, "backend that solves a step again when the first leaves it unresolved; auto: ipopt when --backend auto picks lemke, lemke when it picks newton on a frictionless packing at fixed pressure, else none")
+  a.get_option("--backend")
+      ->description(
+          "contact solver backend; auto: the rate solve (the quasi-rigid loading path over the "
+          "self-stresses, then the step solved exactly on its contact states; "
+          "docs/perturbations.md), and where it gives no definite answer the whole step by lemke "
+          "on frictional packings of up to " +
+          std::to_string(kLemkeAutoContacts) +
+          " force-carrying contacts or when a lemke option is given (newton above, and at fixed "
+          "volume), newton on frictionless ones");
+  a.add_option("--fallback", fallback,
+               "backend that solves a step again when the first leaves it unresolved; auto: ipopt "
+               "when --backend auto picks lemke, lemke when it picks newton on a frictionless "
+               "packing at fixed pressure, else none")
       ->check(CLI::IsMember({"auto", "none", "nsgs", "newton", "ipopt", "nlopt", "lemke"}))
       ->capture_default_str();
-  a.get_option("--tol")->description("the solver tolerance itself (default: set by --response-tol)")->default_str("");
-  auto* output = a.add_option("-o,--output", output_dir, "directory for the results (CSV, fields, records to resume from)");
-  a.add_option("--time-limit", time_limit,
-               "start no perturbation after S seconds of this run; those started finish, and the results are written "
-               "for all done so far (summary \"complete\": false); rerun the same command to continue")
+  a.get_option("--tol")
+      ->description("the solver tolerance itself (default: set by --response-tol)")
+      ->default_str("");
+  auto* output = a.add_option("-o,--output", output_dir,
+                              "directory for the results (CSV, fields, records to resume from)");
+  a.add_option(
+       "--time-limit", time_limit,
+       "start no perturbation after S seconds of this run; those started finish, and the results "
+       "are written "
+       "for all done so far (summary \"complete\": false); rerun the same command to continue")
       ->needs(output);
   a.add_flag("--json", json, "one JSON object on stdout");
   a.add_flag("--quiet", quiet, "no progress on stderr");
@@ -86,33 +118,43 @@ using Clock = std::chrono::steady_clock;
 struct Selection {
   std::vector<PerturbationTarget> targets;
   std::string description;
-  bool Shifts() const { return !targets.empty() && targets[0].kind == PerturbationTarget::Kind::kParticleShift; }
+  bool Shifts() const {
+    return !targets.empty() && targets[0].kind == PerturbationTarget::Kind::kParticleShift;
+  }
 };
 
 Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
   const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.top + f.bottom +
                      f.shift_down.has_value() + f.shift_up.has_value();
   if (chosen != 1) {
-    throw std::invalid_argument("choose exactly one of --contact, --all, --sample, --top, --bottom, --shift-down, --shift-up");
+    throw std::invalid_argument(
+        "choose exactly one of --contact, --all, --sample, --top, --bottom, --shift-down, "
+        "--shift-up");
   }
   if (f.top) return {TopTargets(base), "top"};
   if (f.bottom) return {BottomTargets(base), "bottom"};
-  if (f.shift_down) return {{ShiftOption(base, true, *f.shift_down)}, "shift-down " + std::to_string(*f.shift_down)};
-  if (f.shift_up) return {{ShiftOption(base, false, *f.shift_up)}, "shift-up " + std::to_string(*f.shift_up)};
+  if (f.shift_down)
+    return {{ShiftOption(base, true, *f.shift_down)},
+            "shift-down " + std::to_string(*f.shift_down)};
+  if (f.shift_up)
+    return {{ShiftOption(base, false, *f.shift_up)}, "shift-up " + std::to_string(*f.shift_up)};
   std::vector<PerturbationTarget> contacts = ContactTargets(base);
   if (f.all) return {contacts, "all"};
   if (f.sample) {
     if (*f.sample < 1) throw std::invalid_argument("--sample: need at least 1 contact");
     if (static_cast<std::size_t>(*f.sample) > contacts.size()) {
-      throw std::invalid_argument("--sample " + std::to_string(*f.sample) + ": the packing has only " + std::to_string(contacts.size()) +
+      throw std::invalid_argument("--sample " + std::to_string(*f.sample) +
+                                  ": the packing has only " + std::to_string(contacts.size()) +
                                   " force-carrying contacts (--all opens every one)");
     }
-    return {SampleTargets(contacts, *f.sample, f.seed), "sample " + std::to_string(*f.sample) + " seed " + std::to_string(f.seed)};
+    return {SampleTargets(contacts, *f.sample, f.seed),
+            "sample " + std::to_string(*f.sample) + " seed " + std::to_string(f.seed)};
   }
   const int k = *f.contact;
   if (k < 0 || k >= static_cast<int>(contacts.size())) {
-    throw std::invalid_argument("--contact " + std::to_string(k) + ": the packing has " + std::to_string(contacts.size()) +
-                                " force-carrying contacts (0.." + std::to_string(static_cast<int>(contacts.size()) - 1) + ")");
+    throw std::invalid_argument("--contact " + std::to_string(k) + ": the packing has " +
+                                std::to_string(contacts.size()) + " force-carrying contacts (0.." +
+                                std::to_string(static_cast<int>(contacts.size()) - 1) + ")");
   }
   return {{contacts[k]}, "contact " + std::to_string(k)};
 }
@@ -131,7 +173,8 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.nearest_member = f.member == "nearest";
   o.prefer_quasi_static = f.prefer_quasi_static;
   o.dynamic_precheck = f.dynamic_lp;
-  if (f.app != nullptr && f.app->count("--tol") > 0) o.solver_tolerance = f.solver.options.tolerance;
+  if (f.app != nullptr && f.app->count("--tol") > 0)
+    o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
   return o;
 }
@@ -143,22 +186,35 @@ void AddNonDefaultBackendOptions(const SolverOptions& o, nlohmann::json& header)
   if (o.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.lemke_pivots_per_row;
   if (o.lemke_box_rate_first) header["lemke_box_first"] = true;
   if (o.lemke_warm_start) header["lemke_warm"] = true;
-  if (o.newton_max_iterations != defaults.newton_max_iterations) header["newton_iterations"] = o.newton_max_iterations;
-  if (o.newton_warmup_tolerance != defaults.newton_warmup_tolerance) header["warmup_tol"] = o.newton_warmup_tolerance;
-  if (o.ipopt_max_iterations != defaults.ipopt_max_iterations) header["ipopt_iterations"] = o.ipopt_max_iterations;
-  if (o.nlopt_algorithm != defaults.nlopt_algorithm) header["nlopt_algorithm"] = ToString(o.nlopt_algorithm);
-  if (o.nlopt_max_evaluations != defaults.nlopt_max_evaluations) header["nlopt_evaluations"] = o.nlopt_max_evaluations;
+  if (o.newton_max_iterations != defaults.newton_max_iterations)
+    header["newton_iterations"] = o.newton_max_iterations;
+  if (o.newton_warmup_tolerance != defaults.newton_warmup_tolerance)
+    header["warmup_tol"] = o.newton_warmup_tolerance;
+  if (o.ipopt_max_iterations != defaults.ipopt_max_iterations)
+    header["ipopt_iterations"] = o.ipopt_max_iterations;
+  if (o.nlopt_algorithm != defaults.nlopt_algorithm)
+    header["nlopt_algorithm"] = ToString(o.nlopt_algorithm);
+  if (o.nlopt_max_evaluations != defaults.nlopt_max_evaluations)
+    header["nlopt_evaluations"] = o.nlopt_max_evaluations;
   if (o.convex_relaxation) header["convex_relaxation"] = true;
 }
 
 nlohmann::json Header(const PerturbFlags& f, const Selection& s, const PerturbationOptions& o,
                       const PerturbationBase& base) {
-  nlohmann::json header = {{"unjam_perturb_records", 1}, {"packing", std::filesystem::path(f.file).filename().string()},
-          {"packing_fnv1a", FileFingerprint(f.file)}, {"selection", s.description},
-          {"targets", s.targets.size()}, {"mode", ToString(o.cell)}, {"gap", o.gap}, {"dt", o.dt},
-          {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend},
-          {"max_iterations", o.solver.max_iterations}, {"relaxation", o.solver.relaxation},
-          {"order", ToString(o.solver.sweep_order)}, {"sweep_seed", o.solver.seed}};
+  nlohmann::json header = {{"unjam_perturb_records", 1},
+                           {"packing", std::filesystem::path(f.file).filename().string()},
+                           {"packing_fnv1a", FileFingerprint(f.file)},
+                           {"selection", s.description},
+                           {"targets", s.targets.size()},
+                           {"mode", ToString(o.cell)},
+                           {"gap", o.gap},
+                           {"dt", o.dt},
+                           {"tolerance", SolverToleranceFor(o, base)},
+                           {"backend", o.backend},
+                           {"max_iterations", o.solver.max_iterations},
+                           {"relaxation", o.solver.relaxation},
+                           {"order", ToString(o.solver.sweep_order)},
+                           {"sweep_seed", o.solver.seed}};
   // Only when on, so that records written before the option existed (all unchecked)
   // still resume with --no-check-linearity, and checked ones written before the continued
   // check (all cold) with --cold-check.
@@ -173,12 +229,12 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
   // Only when on, so that records written before it existed resume without it.
   if (o.dynamic_precheck) header["dynamic_lp"] = true;
   AddNonDefaultBackendOptions(o.solver, header);
-  // Shifts only: records written before the shifted particle's own displacement counted
-  // in d, δ and the fields (all before 2026-11-26) do not resume into these.
+  // Shifts only: the shifted particle's own displacement counts in d, δ and the fields;
+  // records without this key, where it did not, do not resume into these.
   if (s.Shifts()) header["shifted_particle_displaced"] = true;
-  // Records written before the inertia ratio counted the spins and the cell (2026-11-27)
-  // hold another ratio, and another status where it crossed the threshold: they do not
-  // resume into these.
+  // The inertia ratio counts the grains, their spins and the cell. Records without this
+  // key hold a ratio without the spins and the cell, and another status where it crossed
+  // the threshold: they do not resume into these.
   header["inertia_ratio_terms"] = "grains, spins, cell";
   // Only for a backend whose answers have changed, for the same reason.
   for (const std::string& name : {o.backend, o.fallback}) {
@@ -192,18 +248,23 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
 constexpr const char* kOtherRun = "remove it or choose another --output directory";
 
 // Every file a run writes in its output directory (the rank files of an mpirun aside).
-const std::vector<std::string> kOutputFiles = {"records.jsonl", "perturbations.csv", "profile.csv", "fcrit_histogram.csv",
-                                               "field.csv", "stress.csv", "summary.json", "displacement.csv",
-                                               "response.vtk", "response.xyz", ".lock"};
+const std::vector<std::string> kOutputFiles = {
+    "records.jsonl", "perturbations.csv", "profile.csv",  "fcrit_histogram.csv",
+    "field.csv",     "stress.csv",        "summary.json", "displacement.csv",
+    "response.vtk",  "response.xyz",      ".lock"};
 
 // One run per directory (docs/cli.md, "One run per output"): rank 0, or a run without MPI,
 // locks DIR/.lock for the whole run; rank r > 0 of an mpirun locks DIR/.lock.rank<r>, beside
 // the records file it alone writes, so that the ranks of one mpirun do not refuse each other.
-std::filesystem::path LockPath(const std::filesystem::path& dir, int rank) { return RankPath(dir / ".lock", rank); }
+std::filesystem::path LockPath(const std::filesystem::path& dir, int rank) {
+  return RankPath(dir / ".lock", rank);
+}
 
 // The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
 // MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
-std::filesystem::path RecordsPath(const std::filesystem::path& dir, int rank) { return RankPath(dir / "records.jsonl", rank); }
+std::filesystem::path RecordsPath(const std::filesystem::path& dir, int rank) {
+  return RankPath(dir / "records.jsonl", rank);
+}
 
 RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::json& header) {
   RecordsFile file = ReadRecords(records);
@@ -214,7 +275,8 @@ RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::
 // Records already on disk with the same header, by target index, from every records file
 // in `dir`; a torn last line of this process's own file (`own`) is cut off. A target
 // recorded twice (an mpirun interrupted while merging) counts once.
-std::map<int, ReducedResponse> Resume(const std::filesystem::path& dir, const nlohmann::json& header,
+std::map<int, ReducedResponse> Resume(const std::filesystem::path& dir,
+                                      const nlohmann::json& header,
                                       const std::filesystem::path& own) {
   std::map<int, ReducedResponse> done;
   for (const std::filesystem::path& path : RankFiles(RecordsPath(dir, 0))) {
@@ -233,26 +295,31 @@ std::string TargetName(const PerturbationTarget& t) {
 std::string PerturbationsCsv(const std::map<int, ReducedResponse>& records) {
   std::ostringstream os;
   os << "index,kind,i,j,image_x,image_y,x,y,axis_x,axis_y,f_reference,f_crit,penetration_depth,"
-        "cell_strain,pressure_change,inertia_ratio,inertial_force,fcrit_10xi,linearity_misfit,equilibrium_residual,iterations,residual,status,rattler,seconds,backend\n";
+        "cell_strain,pressure_change,inertia_ratio,inertial_force,fcrit_10xi,linearity_misfit,"
+        "equilibrium_residual,iterations,residual,status,rattler,seconds,backend\n";
   for (const auto& [k, r] : records) {
     const bool shift = r.target.kind == PerturbationTarget::Kind::kParticleShift;
-    os << Format("%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%.17g,%.6e,%.6e,%d,%.6e,%s,%d,%.4f,%s\n",
-                 k, shift ? "shift" : "opening", r.target.i, r.target.j, r.target.image[0], r.target.image[1],
-                 r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y(), r.f_reference, r.f_crit, r.penetration_depth,
-                 r.cell_strain, r.pressure_change, r.inertia_ratio, r.inertial_force, r.fcrit_10xi, r.linearity_misfit, r.equilibrium_residual, r.iterations,
-                 r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds, r.backend.c_str());
+    os << Format(
+        "%d,%s,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6e,%.6e,%.17g,%."
+        "6e,%.6e,%d,%.6e,%s,%d,%.4f,%s\n",
+        k, shift ? "shift" : "opening", r.target.i, r.target.j, r.target.image[0],
+        r.target.image[1], r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y(), r.f_reference,
+        r.f_crit, r.penetration_depth, r.cell_strain, r.pressure_change, r.inertia_ratio,
+        r.inertial_force, r.fcrit_10xi, r.linearity_misfit, r.equilibrium_residual, r.iterations,
+        r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds, r.backend.c_str());
   }
   return os.str();
 }
 
 std::string ProfileCsv(const EnsembleSummary& s) {
   std::ostringstream os;
-  os << "r_low,r_high,r,displacement_over_gap,displacement_error,displacement_samples,abs_force_change,force_change_error,force_samples\n";
+  os << "r_low,r_high,r,displacement_over_gap,displacement_error,displacement_samples,abs_force_"
+        "change,force_change_error,force_samples\n";
   for (std::size_t b = 0; b < s.displacement_profile.size(); ++b) {
     const LogBin& d = s.displacement_profile[b];
     const LogBin& f = s.force_profile[b];
-    os << Format("%.6g,%.6g,%.6g,%.10g,%.4g,%d,%.10g,%.4g,%d\n", d.r_low, d.r_high, d.r_mean, d.mean, d.error,
-                 d.count, f.mean, f.error, f.count);
+    os << Format("%.6g,%.6g,%.6g,%.10g,%.4g,%d,%.10g,%.4g,%d\n", d.r_low, d.r_high, d.r_mean,
+                 d.mean, d.error, d.count, f.mean, f.error, f.count);
   }
   return os.str();
 }
@@ -264,7 +331,8 @@ std::string HistogramCsv(const EnsembleSummary& s) {
     const int n = static_cast<int>(h.counts.size());
     for (int b = 0; b < n; ++b) {
       const double w = (h.high - h.low) / n;
-      os << Format("%s,%.8g,%.8g,%d,%.8g\n", name, h.low + b * w, h.low + (b + 1) * w, h.counts[b], h.density[b]);
+      os << Format("%s,%.8g,%.8g,%d,%.8g\n", name, h.low + b * w, h.low + (b + 1) * w, h.counts[b],
+                   h.density[b]);
     }
   };
   emit("raw", s.fcrit_raw);
@@ -277,7 +345,8 @@ std::string FieldCsv(const EnsembleSummary& s) {
   std::ostringstream os;
   os << "x,y,dx_over_gap,dy_over_gap,samples\n";
   for (const FieldBox& b : s.field) {
-    os << Format("%.6g,%.6g,%.10g,%.10g,%d\n", b.center.x(), b.center.y(), b.mean.x(), b.mean.y(), b.count);
+    os << Format("%.6g,%.6g,%.10g,%.10g,%d\n", b.center.x(), b.center.y(), b.mean.x(), b.mean.y(),
+                 b.count);
   }
   return os.str();
 }
@@ -286,8 +355,9 @@ std::string StressCsv(const EnsembleSummary& s) {
   std::ostringstream os;
   os << "x,y,dsigma_xx,dsigma_xy,dsigma_yy,pressure_change,max_shear,shear_angle\n";
   for (const StressBox& b : s.stress) {
-    os << Format("%.6g,%.6g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", b.center.x(), b.center.y(), b.mean(0, 0),
-                 b.mean(0, 1), b.mean(1, 1), b.pressure_change, b.max_shear, b.shear_angle);
+    os << Format("%.6g,%.6g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", b.center.x(), b.center.y(),
+                 b.mean(0, 0), b.mean(0, 1), b.mean(1, 1), b.pressure_change, b.max_shear,
+                 b.shear_angle);
   }
   return os.str();
 }
@@ -297,21 +367,24 @@ std::string DisplacementCsv(const PerturbationBase& base, const PerturbationResu
   os << "particle,x,y,radius,dx,dy,rotation\n";
   for (std::size_t i = 0; i < r.displacement.size(); ++i) {
     const Particle& p = base.scene.particles[i];
-    os << Format("%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i, p.position.x(), p.position.y(), p.radius,
-                 r.displacement[i].x(), r.displacement[i].y(), r.rotation[i]);
+    os << Format("%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", i, p.position.x(), p.position.y(),
+                 p.radius, r.displacement[i].x(), r.displacement[i].y(), r.rotation[i]);
   }
   return os.str();
 }
 
 }  // namespace
 
-void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& base, const PerturbationResult& r) {
+void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& base,
+                    const PerturbationResult& r) {
   WriteFileAtomically(dir / "displacement.csv", DisplacementCsv(base, r));
   ParticleField field;
   field.displacement = r.displacement;
   for (const ContactForceChange& c : r.force_changes) {
-    if (c.normal_after != 0.0 || c.tangential_after != 0.0) field.forces.push_back({c.i, c.j, c.image, c.normal_after, c.tangential_after});
-    field.force_change.push_back({c.i, c.j, c.image, c.normal_after - c.normal_before, c.tangential_after - c.tangential_before});
+    if (c.normal_after != 0.0 || c.tangential_after != 0.0)
+      field.forces.push_back({c.i, c.j, c.image, c.normal_after, c.tangential_after});
+    field.force_change.push_back({c.i, c.j, c.image, c.normal_after - c.normal_before,
+                                  c.tangential_after - c.tangential_before});
   }
   WriteVtk(base.scene, field, dir / "response.vtk");
   WriteExtendedXyz(base.scene, field, dir / "response.xyz");
@@ -320,58 +393,100 @@ void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& ba
 namespace {
 
 // A mean over no sample is no number.
-nlohmann::json MeanOrNull(const MeanAndError& m) { return m.count > 0 ? NumberOrNull(m.mean) : nlohmann::json(nullptr); }
-nlohmann::json ErrorOrNull(const MeanAndError& m) { return m.count > 1 ? NumberOrNull(m.error) : nlohmann::json(nullptr); }
+nlohmann::json MeanOrNull(const MeanAndError& m) {
+  return m.count > 0 ? NumberOrNull(m.mean) : nlohmann::json(nullptr);
+}
+nlohmann::json ErrorOrNull(const MeanAndError& m) {
+  return m.count > 1 ? NumberOrNull(m.error) : nlohmann::json(nullptr);
+}
 
-nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel, const PerturbationOptions& o,
-                           const PerturbationBase& base, const EnsembleSummary& s, double seconds) {
+nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel,
+                           const PerturbationOptions& o, const PerturbationBase& base,
+                           const EnsembleSummary& s, double seconds) {
   const bool shift = sel.Shifts();
   nlohmann::json j = {
-      {"file", f.file}, {"selection", sel.description}, {"mode", shift ? "shift" : base.scene.effects.pressure_bath ? ToString(o.cell) : "fixed-cell"},
-      {"gap", o.gap}, {"dt", o.dt}, {"tolerance", SolverToleranceFor(o, base)}, {"backend", o.backend}, {"fallback", o.fallback},
-      {"check_linearity", o.check_linearity}, {"check_by_continuation", o.check_linearity && o.check_by_continuation},
-      {"member", o.nearest_member ? "nearest" : "path"}, {"prefer_quasi_static", o.prefer_quasi_static},
-      {"dynamic_lp", o.dynamic_precheck}, {"perturbations", s.perturbations}, {"used", s.used}, {"not_converged", s.not_converged},
-      {"dynamic", s.dynamic}, {"nonlinear", s.nonlinear}, {"blocked", s.blocked}, {"rattlers", s.rattlers},
-      {"mean_fcrit", MeanOrNull(s.f_crit)}, {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
+      {"file", f.file},
+      {"selection", sel.description},
+      {"mode", shift                              ? "shift"
+               : base.scene.effects.pressure_bath ? ToString(o.cell)
+                                                  : "fixed-cell"},
+      {"gap", o.gap},
+      {"dt", o.dt},
+      {"tolerance", SolverToleranceFor(o, base)},
+      {"backend", o.backend},
+      {"fallback", o.fallback},
+      {"check_linearity", o.check_linearity},
+      {"check_by_continuation", o.check_linearity && o.check_by_continuation},
+      {"member", o.nearest_member ? "nearest" : "path"},
+      {"prefer_quasi_static", o.prefer_quasi_static},
+      {"dynamic_lp", o.dynamic_precheck},
+      {"perturbations", s.perturbations},
+      {"used", s.used},
+      {"not_converged", s.not_converged},
+      {"dynamic", s.dynamic},
+      {"nonlinear", s.nonlinear},
+      {"blocked", s.blocked},
+      {"rattlers", s.rattlers},
+      {"mean_fcrit", MeanOrNull(s.f_crit)},
+      {"mean_fcrit_error", ErrorOrNull(s.f_crit)},
       {"mean_fcont", shift ? nlohmann::json(base.mean_contact_force) : MeanOrNull(s.f_reference)},
       {"reference", shift ? "F_y (effective weight)" : "F_cont"},
       {"mean_freference", MeanOrNull(s.f_reference)},
-      {"ratio_fcrit_freference", NumberOrNull(s.ratio)}, {"ratio_error", NumberOrNull(s.ratio_error)},
-      {"f0", s.f0}, {"mean_delta", MeanOrNull(s.penetration_depth)},
+      {"ratio_fcrit_freference", NumberOrNull(s.ratio)},
+      {"ratio_error", NumberOrNull(s.ratio_error)},
+      {"f0", s.f0},
+      {"mean_delta", MeanOrNull(s.penetration_depth)},
       {"mean_delta_error", ErrorOrNull(s.penetration_depth)},
-      {"alpha", NumberOrNull(s.decay.alpha)}, {"alpha_error", NumberOrNull(s.decay.alpha_error)},
-      {"alpha_fit_range", {s.decay.fit_min, s.decay.fit_max}}, {"alpha_fit_points", s.decay.points},
+      {"alpha", NumberOrNull(s.decay.alpha)},
+      {"alpha_error", NumberOrNull(s.decay.alpha_error)},
+      {"alpha_fit_range", {s.decay.fit_min, s.decay.fit_max}},
+      {"alpha_fit_points", s.decay.points},
       {"fcrit_tail_scale", s.fcrit_tail.count > 0 ? NumberOrNull(s.fcrit_tail.scale) : nullptr},
-      {"fcrit_tail_scale_error", s.fcrit_tail.count > 0 ? NumberOrNull(s.fcrit_tail.scale_error) : nullptr},
+      {"fcrit_tail_scale_error",
+       s.fcrit_tail.count > 0 ? NumberOrNull(s.fcrit_tail.scale_error) : nullptr},
       {"fcrit_tail_samples", s.fcrit_tail.count},
-      {"corr_fcrit_delta", s.corr_fcrit_delta}, {"corr_fcont_delta", s.corr_freference_delta},
-      {"corr_fcrit_fcont", s.corr_fcrit_freference}, {"seconds", seconds}};
+      {"corr_fcrit_delta", s.corr_fcrit_delta},
+      {"corr_fcont_delta", s.corr_freference_delta},
+      {"corr_fcrit_fcont", s.corr_fcrit_freference},
+      {"seconds", seconds}};
   if (!f.output_dir.empty()) j["output"] = f.output_dir;
   return j;
 }
 
 void PrintSummary(const nlohmann::json& j) {
-  auto num = [&](const char* key) { return j[key].is_null() ? std::string("n/a") : Format("%.6g", j[key].get<double>()); };
-  std::printf("perturbations      %d (used %d, not converged %d, dynamic %d, nonlinear %d, blocked %d, rattlers %d)\n", j["perturbations"].get<int>(),
-              j["used"].get<int>(), j["not_converged"].get<int>(), j["dynamic"].get<int>(), j["nonlinear"].get<int>(), j["blocked"].get<int>(),
-              j["rattlers"].get<int>());
-  if (!j["complete"].get<bool>()) std::printf("incomplete         %d of %d targets done\n", j["perturbations"].get<int>(), j["targets"].get<int>());
-  std::printf("mode               %s, gap %.3g, dt %.3g, tolerance %.3g (%s)\n", j["mode"].get<std::string>().c_str(),
-              j["gap"].get<double>(), j["dt"].get<double>(), j["tolerance"].get<double>(), j["backend"].get<std::string>().c_str());
-  std::printf("<F_crit>           %s +- %s\n", num("mean_fcrit").c_str(), num("mean_fcrit_error").c_str());
-  std::printf("<reference>        %s  (%s)\n", num("mean_freference").c_str(), j["reference"].get<std::string>().c_str());
-  std::printf("<F_crit>/<ref>     %s +- %s\n", num("ratio_fcrit_freference").c_str(), num("ratio_error").c_str());
-  std::printf("<delta>            %s +- %s\n", num("mean_delta").c_str(), num("mean_delta_error").c_str());
-  std::printf("decay alpha        %s +- %s (d ~ r^-alpha, %d bins)\n", num("alpha").c_str(), num("alpha_error").c_str(),
-              j["alpha_fit_points"].get<int>());
+  auto num = [&](const char* key) {
+    return j[key].is_null() ? std::string("n/a") : Format("%.6g", j[key].get<double>());
+  };
+  std::printf(
+      "perturbations      %d (used %d, not converged %d, dynamic %d, nonlinear %d, blocked %d, "
+      "rattlers %d)\n",
+      j["perturbations"].get<int>(), j["used"].get<int>(), j["not_converged"].get<int>(),
+      j["dynamic"].get<int>(), j["nonlinear"].get<int>(), j["blocked"].get<int>(),
+      j["rattlers"].get<int>());
+  if (!j["complete"].get<bool>())
+    std::printf("incomplete         %d of %d targets done\n", j["perturbations"].get<int>(),
+                j["targets"].get<int>());
+  std::printf("mode               %s, gap %.3g, dt %.3g, tolerance %.3g (%s)\n",
+              j["mode"].get<std::string>().c_str(), j["gap"].get<double>(), j["dt"].get<double>(),
+              j["tolerance"].get<double>(), j["backend"].get<std::string>().c_str());
+  std::printf("<F_crit>           %s +- %s\n", num("mean_fcrit").c_str(),
+              num("mean_fcrit_error").c_str());
+  std::printf("<reference>        %s  (%s)\n", num("mean_freference").c_str(),
+              j["reference"].get<std::string>().c_str());
+  std::printf("<F_crit>/<ref>     %s +- %s\n", num("ratio_fcrit_freference").c_str(),
+              num("ratio_error").c_str());
+  std::printf("<delta>            %s +- %s\n", num("mean_delta").c_str(),
+              num("mean_delta_error").c_str());
+  std::printf("decay alpha        %s +- %s (d ~ r^-alpha, %d bins)\n", num("alpha").c_str(),
+              num("alpha_error").c_str(), j["alpha_fit_points"].get<int>());
   std::printf("seconds            %.3f\n", j["seconds"].get<double>());
 }
 
 // The full fields of perturbation 0 (WriteFullField), written before its record: a record
 // without them (a run stopped or failed in between, before they came first; or files
 // removed since) leaves them to the next run.
-const std::vector<std::string> kFullFieldFiles = {"displacement.csv", "response.vtk", "response.xyz"};
+const std::vector<std::string> kFullFieldFiles = {"displacement.csv", "response.vtk",
+                                                  "response.xyz"};
 
 bool FullFieldMissing(const std::filesystem::path& dir) {
   for (const std::string& name : kFullFieldFiles) {
@@ -389,8 +504,8 @@ struct PendingTargets {
   std::vector<int> index;
 };
 
-PendingTargets Pending(const Selection& selection, const std::map<int, ReducedResponse>& records, bool refill_first,
-                       int rank, int ranks) {
+PendingTargets Pending(const Selection& selection, const std::map<int, ReducedResponse>& records,
+                       bool refill_first, int rank, int ranks) {
   PendingTargets pending;
   for (int k = 0; k < static_cast<int>(selection.targets.size()); ++k) {
     const bool done = records.count(k) > 0 && !(k == 0 && refill_first);
@@ -402,14 +517,18 @@ PendingTargets Pending(const Selection& selection, const std::map<int, ReducedRe
 }
 
 void PrintProgress(const PerturbationResult& r, int done, int total, int rank, int ranks) {
-  const std::string who = ranks > 1 ? Format("perturb rank %d [%d/%d]", rank, done, total) : Format("perturb [%d/%d]", done, total);
-  std::fprintf(stderr, "%s %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n", who.c_str(),
-               TargetName(r.target).c_str(), r.f_crit, r.f_reference, r.penetration_depth, r.status.c_str(),
-               r.solve.iterations, r.solve.residual, r.seconds);
-  if (!r.resolved) std::fprintf(stderr, "  %s: %s\n", r.solve.backend.c_str(), r.solve.message.c_str());
+  const std::string who = ranks > 1 ? Format("perturb rank %d [%d/%d]", rank, done, total)
+                                    : Format("perturb [%d/%d]", done, total);
+  std::fprintf(
+      stderr, "%s %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n",
+      who.c_str(), TargetName(r.target).c_str(), r.f_crit, r.f_reference, r.penetration_depth,
+      r.status.c_str(), r.solve.iterations, r.solve.residual, r.seconds);
+  if (!r.resolved)
+    std::fprintf(stderr, "  %s: %s\n", r.solve.backend.c_str(), r.solve.message.c_str());
 }
 
-void WriteEnsembleFiles(const std::filesystem::path& dir, const std::map<int, ReducedResponse>& records,
+void WriteEnsembleFiles(const std::filesystem::path& dir,
+                        const std::map<int, ReducedResponse>& records,
                         const EnsembleSummary& summary, const nlohmann::json& out) {
   WriteFileAtomically(dir / "perturbations.csv", PerturbationsCsv(records));
   WriteFileAtomically(dir / "profile.csv", ProfileCsv(summary));
@@ -421,16 +540,24 @@ void WriteEnsembleFiles(const std::filesystem::path& dir, const std::map<int, Re
 
 // Says on stderr which perturbations have no usable response, and where `auto` left lemke
 // out for the packing's size only, how to resolve them; the exit code.
-int ReportUnusable(const EnsembleSummary& summary, bool lemke_left_for_size, bool require_converged) {
+int ReportUnusable(const EnsembleSummary& summary, bool lemke_left_for_size,
+                   bool require_converged) {
   const int failed = summary.not_converged + summary.dynamic + summary.nonlinear + summary.blocked;
   if (failed == 0) return kOk;
-  std::fprintf(stderr, "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, dynamic: %d, nonlinear: %d, blocked: %d)\n",
-               failed, summary.perturbations, summary.not_converged, summary.dynamic, summary.nonlinear, summary.blocked);
+  std::fprintf(stderr,
+               "unjam perturb: %d of %d perturbations have no usable response (not converged: %d, "
+               "dynamic: %d, nonlinear: %d, blocked: %d)\n",
+               failed, summary.perturbations, summary.not_converged, summary.dynamic,
+               summary.nonlinear, summary.blocked);
   if (summary.not_converged > 0 && lemke_left_for_size) {
-    std::fprintf(stderr, "  (auto gave this packing of more than %zu contacts to newton, which stalls on quasi-static frictional "
-                         "responses; lemke resolves them exactly, at minutes to an hour each: --backend lemke --max-iter 3000000, "
-                         "and --lemke-box-first on piles; docs/perturbations.md, \"Which backend `auto` picks\")\n",
-                 kLemkeAutoContacts);
+    std::fprintf(
+        stderr,
+        "  (auto gave this packing of more than %zu contacts to newton, which stalls on "
+        "quasi-static frictional "
+        "responses; lemke resolves them exactly, at minutes to an hour each: --backend lemke "
+        "--max-iter 3000000, "
+        "and --lemke-box-first on piles; docs/perturbations.md, \"Which backend `auto` picks\")\n",
+        kLemkeAutoContacts);
   }
   return require_converged ? kNotConverged : kOk;
 }
@@ -441,16 +568,19 @@ int RunPerturb(const PerturbFlags& f) {
   const auto start = Clock::now();
   RefuseOutputDirectoryOverInput("-o", f.output_dir, kOutputFiles, {f.file});
   if (f.time_limit && !(std::isfinite(*f.time_limit) && *f.time_limit >= 0.0)) {
-    throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " + Format("%g", *f.time_limit));
+    throw std::invalid_argument("--time-limit must be a finite number of seconds >= 0, got " +
+                                Format("%g", *f.time_limit));
   }
   PerturbationOptions options = OptionsFrom(f);
   const Scene scene = ReadPacking(f.file);
   const std::string fallback = PerturbationFallback(options, scene);  // before "auto" is resolved
   options.fallback = fallback.empty() ? "none" : fallback;
-  const bool lemke_left_for_size = AutoLeavesLemkeForSize(options, scene);  // before "auto" is resolved
+  const bool lemke_left_for_size =
+      AutoLeavesLemkeForSize(options, scene);  // before "auto" is resolved
   options.backend = PerturbationBackend(options, scene);
   if (scene.forces.empty()) {
-    throw InputError(f.file, 0, "stores no static forces: run `unjam solve " + f.file + " -o FILE` first");
+    throw InputError(f.file, 0,
+                     "stores no static forces: run `unjam solve " + f.file + " -o FILE` first");
   }
   const PerturbationBase base = PreparePerturbations(scene, options);
   const Selection selection = SelectTargets(f, base);
@@ -460,7 +590,8 @@ int RunPerturb(const PerturbFlags& f) {
   MpiSession* mpi = CurrentMpiSession();
   const int rank = mpi != nullptr ? mpi->rank() : 0, ranks = mpi != nullptr ? mpi->size() : 1;
   if (ranks > 1 && f.output_dir.empty()) {
-    throw std::invalid_argument("under mpirun, -o DIR is needed: the ranks share their records there");
+    throw std::invalid_argument(
+        "under mpirun, -o DIR is needed: the ranks share their records there");
   }
   const std::filesystem::path dir = f.output_dir;
   const nlohmann::json header = Header(f, selection, options, base);
@@ -476,14 +607,20 @@ int RunPerturb(const PerturbFlags& f) {
   }
   const bool refill_first = log.is_open() && records.count(0) > 0 && FullFieldMissing(dir);
   const PendingTargets pending = Pending(selection, records, refill_first, rank, ranks);
-  if (!f.quiet && !records.empty()) std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(), selection.targets.size());
+  if (!f.quiet && !records.empty())
+    std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(),
+                 selection.targets.size());
   if (!f.quiet && refill_first && rank == 0) {
-    std::fprintf(stderr, "perturb: perturbation 0 is recorded without its fields (displacement.csv, response.vtk, response.xyz): solving it again for them\n");
+    std::fprintf(stderr,
+                 "perturb: perturbation 0 is recorded without its fields (displacement.csv, "
+                 "response.vtk, response.xyz): solving it again for them\n");
   }
   PerturbSchedule schedule;
   schedule.threads = ThreadsFromOption(f.threads);
   schedule.as_finished = true;  // each record written as soon as it exists
-  if (f.time_limit) schedule.start_before = start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*f.time_limit));
+  if (f.time_limit)
+    schedule.start_before = start + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(*f.time_limit));
   const int total = static_cast<int>(selection.targets.size());
   PerturbAll(base, pending.targets, options, schedule, [&](int t, const PerturbationResult& r) {
     const int k = pending.index[t];
@@ -521,7 +658,9 @@ int RunPerturb(const PerturbFlags& f) {
   if (f.json) std::printf("%s\n", out.dump().c_str());
   else PrintSummary(out);
   if (!out["complete"].get<bool>() && !f.quiet) {
-    std::fprintf(stderr, "perturb: stopped at the time limit with %zu of %d done; the same command continues from %s\n",
+    std::fprintf(stderr,
+                 "perturb: stopped at the time limit with %zu of %d done; the same command "
+                 "continues from %s\n",
                  records.size(), total, (dir / "records.jsonl").string().c_str());
   }
   return ReportUnusable(summary, lemke_left_for_size, f.solver.require_converged);

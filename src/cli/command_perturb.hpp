@@ -15,30 +15,30 @@ namespace unjam::cli {
 
 struct PerturbFlags {
   std::string file;
-  std::optional<int> contact;       // --contact K
+  std::optional<int> contact;  // --contact K
   bool all = false;
-  std::optional<int> sample;        // --sample N
+  std::optional<int> sample;  // --sample N
   std::uint64_t seed = 1;
   bool top = false, bottom = false;
-  std::optional<int> shift_down;    // --shift-down P
-  std::optional<int> shift_up;      // --shift-up P
+  std::optional<int> shift_down;  // --shift-down P
+  std::optional<int> shift_up;    // --shift-up P
   std::string mode = "fixed-pressure";
   double gap = 1e-9;
   double dt = 1.0;
   double response_tol = 1e-2;
-  int threads = 0;                  // 0: all cores
+  int threads = 0;  // 0: all cores
   SolverFlags solver;
   std::string output_dir;
   std::optional<double> time_limit;  // --time-limit S: start no perturbation after S seconds
-  bool check_linearity = true;      // --no-check-linearity turns it off
-  bool cold_check = false;          // --cold-check: the 10 xi check from zero impulses
+  bool check_linearity = true;       // --no-check-linearity turns it off
+  bool cold_check = false;           // --cold-check: the 10 xi check from zero impulses
   std::string member = "path";
   bool prefer_quasi_static = false;  // --prefer-quasi-static
-  bool dynamic_lp = false;          // --dynamic-lp: PerturbationOptions::dynamic_precheck
-  std::string fallback = "auto";    // --fallback: the second backend of an unresolved step
+  bool dynamic_lp = false;           // --dynamic-lp: PerturbationOptions::dynamic_precheck
+  std::string fallback = "auto";     // --fallback: the second backend of an unresolved step
   bool json = false;
   bool quiet = false;
-  CLI::App* app = nullptr;          // to ask whether --tol was given
+  CLI::App* app = nullptr;  // to ask whether --tol was given
 
   void Register(CLI::App& app);
 };
@@ -47,6 +47,7 @@ int RunPerturb(const PerturbFlags& flags);
 
 // The full fields of one perturbation in DIR: displacement.csv (particle, x, y, radius,
 // dx, dy, rotation), response.vtk (ParaView) and response.xyz (OVITO).
-void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& base, const PerturbationResult& result);
+void WriteFullField(const std::filesystem::path& dir, const PerturbationBase& base,
+                    const PerturbationResult& result);
 
 }  // namespace unjam::cli

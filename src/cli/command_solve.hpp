@@ -14,10 +14,10 @@ struct SolveFlags {
   std::string file;
   SolverFlags solver;
   bool json = false;
-  bool forces = false;            // list every contact force (packing) or impulse (.dat)
-  std::string output;             // the solved packing, or the impulses of a .dat problem
-  std::string export_problem;     // write the contact problem as a Siconos .dat file
-  int threads = 1;                // NSGS threads on a packing; 0: all cores
+  bool forces = false;         // list every contact force (packing) or impulse (.dat)
+  std::string output;          // the solved packing, or the impulses of a .dat problem
+  std::string export_problem;  // write the contact problem as a Siconos .dat file
+  int threads = 1;             // NSGS threads on a packing; 0: all cores
 
   void Register(CLI::App& app);
 };

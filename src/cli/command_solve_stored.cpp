@@ -21,8 +21,10 @@ void PrintTable(const std::string& path, const DelassusProblem& p, const StoredS
   std::printf("contacts          %d (%d unknowns)\n", p.NumContacts(), p.NumUnknowns());
   std::printf("iterations        %d\n", r.iterations);
   std::printf("residual          %.3e (unjam: worst contact / mean normal impulse)\n", r.residual);
-  std::printf("siconos error     %.3e (Siconos fc2d: |natural map| / max(|r|, |u|, |q|))\n", s.siconos_error);
-  std::printf("converged         %s%s%s\n", r.converged() ? "yes" : "NO", r.message.empty() ? "" : ": ", r.message.c_str());
+  std::printf("siconos error     %.3e (Siconos fc2d: |natural map| / max(|r|, |u|, |q|))\n",
+              s.siconos_error);
+  std::printf("converged         %s%s%s\n", r.converged() ? "yes" : "NO",
+              r.message.empty() ? "" : ": ", r.message.c_str());
   std::printf("seconds           %.3f\n", r.seconds);
 }
 
@@ -57,7 +59,8 @@ nlohmann::json Json(const SolveFlags& flags, const DelassusProblem& p, const Sto
 
 bool IsSiconosFile(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return extension == ".dat";
 }
 
@@ -77,7 +80,8 @@ int RunSolveStored(const SolveFlags& flags) {
     if (flags.forces) PrintImpulses(s.impulses);
   }
   if (!s.report.converged()) {
-    std::fprintf(stderr, "unjam solve: the solver did not converge (%s, residual %.3e > tolerance %.3e)\n",
+    std::fprintf(stderr,
+                 "unjam solve: the solver did not converge (%s, residual %.3e > tolerance %.3e)\n",
                  ToString(s.report.status), s.report.residual, options.tolerance);
     if (flags.solver.require_converged) return kNotConverged;
   }

@@ -22,8 +22,9 @@ namespace {
 
 int Run(int argc, char** argv) {
   using namespace unjam::cli;
-  CLI::App app{"unjam: how jammed packings of rigid frictional disks respond to local disturbances.\n"
-               "Without a command, runs the main job on the bundled default packing."};
+  CLI::App app{
+      "unjam: how jammed packings of rigid frictional disks respond to local disturbances.\n"
+      "Without a command, runs the main job on the bundled default packing."};
   app.require_subcommand(0, 1);
   app.set_version_flag("--version", std::string("unjam ") + UNJAM_VERSION);
   MainJobFlags main_job;
@@ -36,7 +37,9 @@ int Run(int argc, char** argv) {
   info->add_flag("--json", info_json, "one JSON object on stdout");
 
   SolveFlags solve_flags;
-  CLI::App* solve = app.add_subcommand("solve", "static contact forces of a saved packing, or a stored Siconos 2D friction-contact problem (.dat)");
+  CLI::App* solve = app.add_subcommand("solve",
+                                       "static contact forces of a saved packing, or a stored "
+                                       "Siconos 2D friction-contact problem (.dat)");
   solve_flags.Register(*solve);
 
   PackFlags pack_flags;
@@ -44,19 +47,25 @@ int Run(int argc, char** argv) {
   pack_flags.Register(*pack);
 
   PerturbFlags perturb_flags;
-  CLI::App* perturb = app.add_subcommand("perturb", "open contacts or shift particles of a static packing, one by one, and measure the response");
+  CLI::App* perturb = app.add_subcommand(
+      "perturb",
+      "open contacts or shift particles of a static packing, one by one, and measure the response");
   perturb_flags.Register(*perturb);
 
   BoundsFlags bounds_flags;
-  CLI::App* bounds = app.add_subcommand("bounds", "admissible-force bounds per contact and the degree of force indeterminacy");
+  CLI::App* bounds = app.add_subcommand(
+      "bounds", "admissible-force bounds per contact and the degree of force indeterminacy");
   bounds_flags.Register(*bounds);
 
   CompareFlags compare_flags;
-  CLI::App* compare = app.add_subcommand("compare", "every backend on every problem at every tolerance: what accuracy costs in time");
+  CLI::App* compare = app.add_subcommand(
+      "compare", "every backend on every problem at every tolerance: what accuracy costs in time");
   compare_flags.Register(*compare);
 
   CheckFlags check_flags;
-  CLI::App* check = app.add_subcommand("check", "the hard cases on every backend: status, residual, Siconos error, overlap and energy at rest");
+  CLI::App* check = app.add_subcommand("check",
+                                       "the hard cases on every backend: status, residual, Siconos "
+                                       "error, overlap and energy at rest");
   check_flags.Register(*check);
 
   try {
@@ -74,11 +83,17 @@ int Run(int argc, char** argv) {
   try {
     const MpiSession* mpi = CurrentMpiSession();
     if (mpi != nullptr && mpi->size() > 1 && !*perturb && !(*bounds && !bounds_flags.Shifts())) {
-      throw std::invalid_argument("only `unjam perturb` and `unjam bounds` on contacts divide their work among MPI ranks; run other commands without mpirun");
+      throw std::invalid_argument(
+          "only `unjam perturb` and `unjam bounds` on contacts divide their work among MPI ranks; "
+          "run other commands without mpirun");
     }
-    const bool main_job_options = app.count("--sample") + app.count("--seed") + app.count("--out") + app.count("--threads") > 0;
+    const bool main_job_options =
+        app.count("--sample") + app.count("--seed") + app.count("--out") + app.count("--threads") >
+        0;
     if (main_job_options && !app.get_subcommands().empty()) {
-      throw std::invalid_argument("--sample, --seed, --out and --threads before a command belong to the main job (unjam without a command)");
+      throw std::invalid_argument(
+          "--sample, --seed, --out and --threads before a command belong to the main job (unjam "
+          "without a command)");
     }
     if (*info) return RunInfo(info_file, info_json);
     if (*solve) return RunSolve(solve_flags);
@@ -96,7 +111,8 @@ int Run(int argc, char** argv) {
     return kInputError;
   } catch (const std::filesystem::filesystem_error& e) {
     // A folder or file the run reads or writes that the file system refuses: an I/O error.
-    std::fprintf(stderr, "unjam: error: %s: %s\n", e.path1().string().c_str(), e.code().message().c_str());
+    std::fprintf(stderr, "unjam: error: %s: %s\n", e.path1().string().c_str(),
+                 e.code().message().c_str());
     return kInputError;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

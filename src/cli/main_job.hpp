@@ -11,12 +11,12 @@
 namespace unjam::cli {
 
 struct MainJobFlags {
-  int sample = 8;                   // contacts opened
-  std::uint64_t seed = 1;           // of the sample (as `unjam perturb --sample N --seed S`)
+  int sample = 8;          // contacts opened
+  std::uint64_t seed = 1;  // of the sample (as `unjam perturb --sample N --seed S`)
   std::string out = "unjam-main-job";
-  int threads = 0;                  // 0: all cores
+  int threads = 0;  // 0: all cores
 
-  void Register(CLI::App& app);     // top-level options, used only without a command
+  void Register(CLI::App& app);  // top-level options, used only without a command
 };
 
 int RunMainJob(const MainJobFlags& flags);

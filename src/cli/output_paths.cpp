@@ -31,8 +31,9 @@ void RefuseOutputOverInput(const std::string& option, const std::filesystem::pat
   if (output.empty()) return;
   for (const std::filesystem::path& input : inputs) {
     if (!SameFile(output, input)) continue;
-    throw std::invalid_argument(option + " " + output.string() + " is the input file " + input.string() +
-                                ", which it would overwrite: choose another " + option);
+    throw std::invalid_argument(option + " " + output.string() + " is the input file " +
+                                input.string() + ", which it would overwrite: choose another " +
+                                option);
   }
 }
 
@@ -44,8 +45,9 @@ void RefuseOutputDirectoryOverInput(const std::string& option, const std::filesy
   for (const std::string& name : files) {
     for (const std::filesystem::path& input : inputs) {
       if (!SameFile(dir / name, input)) continue;
-      throw std::invalid_argument(option + " " + dir.string() + " would overwrite the input file " + input.string() +
-                                  " (with its " + name + "): choose another " + option);
+      throw std::invalid_argument(option + " " + dir.string() + " would overwrite the input file " +
+                                  input.string() + " (with its " + name + "): choose another " +
+                                  option);
     }
   }
 }

@@ -28,7 +28,8 @@ RelaxReport ReportFrom(const nlohmann::json& p, const std::string& path) {
   try {
     r.steps = p.at("steps").get<int>();
     r.static_checks = p.at("static_checks").get<int>();
-    r.refined_checks = p.value("refined_checks", 0);  // absent from checkpoints made before the option
+    r.refined_checks =
+        p.value("refined_checks", 0);  // absent from checkpoints made before the option
     r.unconverged_steps = p.at("unconverged_steps").get<int>();
     r.calm_steps = p.at("calm_steps").get<int>();
     r.next_attempt = p.at("next_attempt").get<int>();
@@ -56,9 +57,11 @@ RelaxReport PackCheckpointer::Resume(Simulation& sim) {
     std::string differences;
     for (const auto& [key, value] : parameters_.items()) {
       const nlohmann::json saved = c.parameters.value(key, nlohmann::json());
-      if (saved != value) differences += " " + key + " " + saved.dump() + " (this run: " + value.dump() + ")";
+      if (saved != value)
+        differences += " " + key + " " + saved.dump() + " (this run: " + value.dump() + ")";
     }
-    throw std::invalid_argument(path_ + ": checkpoint of a run with other parameters:" + differences +
+    throw std::invalid_argument(path_ +
+                                ": checkpoint of a run with other parameters:" + differences +
                                 "; delete it to start afresh, or choose another --checkpoint");
   }
   Load(sim, c);
@@ -70,7 +73,9 @@ RelaxReport PackCheckpointer::Resume(Simulation& sim) {
 
 void PackCheckpointer::Save(Simulation& sim, const RelaxReport& report) {
   if (!enabled_) return;
-  const double seconds = previous_seconds_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double seconds =
+      previous_seconds_ +
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   Checkpoint c{parameters_, Progress(report, seconds), sim.scene(), sim.WarmStartImpulses()};
   c.scene.forces.clear();
   const std::string text = FormatCheckpoint(c);

@@ -61,13 +61,13 @@ struct Entry {
 
 // Reused between calls (detection runs every time step) to avoid reallocating.
 struct Workspace {
-  std::vector<int> cell_of;     // per particle
+  std::vector<int> cell_of;                 // per particle
   std::vector<std::array<int, 2>> wrap_of;  // per particle, see Entry::wrap
-  std::vector<int> run_begin;   // per particle: its pair contacts in `pairs`
+  std::vector<int> run_begin;               // per particle: its pair contacts in `pairs`
   std::vector<int> run_end;
   std::vector<int> cell_start;  // CSR offsets into `entries`, one past the end at the back
   std::vector<Entry> entries;
-  std::vector<Contact> pairs;   // grouped by i, the groups in cell order
+  std::vector<Contact> pairs;  // grouped by i, the groups in cell order
   std::size_t last_contact_count = 0;
 };
 
@@ -97,9 +97,9 @@ std::array<Axis, 2> MakeGrid(const Scene& scene, double reach) {
   const bool periodic[2] = {PeriodicX(scene.cell.periodicity), PeriodicY(scene.cell.periodicity)};
   // Relative slack on the reach absorbs the rounding of binning and of x_j + shift − x_i,
   // which scale with the magnitude of the coordinates.
-  const double scale = std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(),
-                                 periodic[0] ? scene.cell.size.x() : 0.0,
-                                 periodic[1] ? scene.cell.size.y() : 0.0});
+  const double scale =
+      std::max({hi.cwiseAbs().maxCoeff(), lo.cwiseAbs().maxCoeff(),
+                periodic[0] ? scene.cell.size.x() : 0.0, periodic[1] ? scene.cell.size.y() : 0.0});
   const double min_width = reach * (1.0 + 1e-9) + 1e-12 * scale;
   // Cap the number of cells so that memory and the CSR pass stay linear in N.
   const double max_cells = 4.0 * static_cast<double>(particles.size()) + 16.0;
@@ -137,8 +137,8 @@ void BinParticles(const Scene& scene, const std::array<Axis, 2>& grid, Workspace
   for (int i = 0; i < n; ++i) {
     const Particle& p = scene.particles[i];
     const int cell = ws.cell_of[i];
-    ws.entries[ws.cell_start[cell]++] = {p.position.x(), p.position.y(), p.radius, i, cell,
-                                         ws.wrap_of[i], p.fixed};
+    ws.entries[ws.cell_start[cell]++] = {p.position.x(), p.position.y(), p.radius, i,
+                                         cell,           ws.wrap_of[i],  p.fixed};
   }
   // Undo the post-increments: cell_start[c] now holds the start of cell c + 1.
   for (int c = cells; c > 0; --c) ws.cell_start[c] = ws.cell_start[c - 1];

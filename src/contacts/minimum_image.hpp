@@ -22,8 +22,8 @@ inline void CheckMinimumImage(const Scene& scene, double margin) {
     if (periodic && length < 2.0 * reach) {
       std::ostringstream message;
       message << "contact detection: periodic cell length " << length << " along "
-              << (axis == 0 ? 'x' : 'y') << " is below 2 (2 R_max + margin) = "
-              << 2.0 * reach << "; the minimum image is ambiguous";
+              << (axis == 0 ? 'x' : 'y') << " is below 2 (2 R_max + margin) = " << 2.0 * reach
+              << "; the minimum image is ambiguous";
       throw std::invalid_argument(message.str());
     }
   }

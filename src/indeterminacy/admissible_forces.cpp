@@ -25,26 +25,29 @@ double BalanceResidual(const EquilibriumSystem& s, const Eigen::VectorXd& forces
   return (s.matrix * forces - s.load).lpNorm<Eigen::Infinity>() / s.force_scale;
 }
 
-AdmissibleForces NearestAdmissibleForces(const EquilibriumSystem& s, const Eigen::VectorXd& reference,
+AdmissibleForces NearestAdmissibleForces(const EquilibriumSystem& s,
+                                         const Eigen::VectorXd& reference,
                                          const AdmissibleOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   AdmissibleForces out;
   std::optional<Eigen::VectorXd> projected;
   if (o.method != AdmissibleMethod::kLinearProgram) {
-    projected = ProjectOntoAdmissible(s, reference, ClassifyRegions(s, reference, o.edge_tolerance), o.balance_tolerance);
+    projected = ProjectOntoAdmissible(s, reference, ClassifyRegions(s, reference, o.edge_tolerance),
+                                      o.balance_tolerance);
   }
   if (projected) {
     out.status = AdmissibleStatus::kAdmissible;
     out.forces = std::move(*projected);
     out.method = "projection";
   } else if (o.method != AdmissibleMethod::kProjection) {
-    indeterminacy_internal::LpOutcome lp = indeterminacy_internal::NearestAdmissibleByLinearProgram(s, reference);
+    indeterminacy_internal::LpOutcome lp =
+        indeterminacy_internal::NearestAdmissibleByLinearProgram(s, reference);
     out.status = lp.status;
     out.message = lp.message;
     if (lp.status == AdmissibleStatus::kAdmissible) {
       // The simplex solution is feasible to CLP's tolerance; balance it to round-off.
-      auto polished = ProjectOntoAdmissible(s, lp.forces, ClassifyRegions(s, lp.forces, o.edge_tolerance),
-                                            o.balance_tolerance);
+      auto polished = ProjectOntoAdmissible(
+          s, lp.forces, ClassifyRegions(s, lp.forces, o.edge_tolerance), o.balance_tolerance);
       out.method = "linear-program";
       if (polished) {
         out.forces = std::move(*polished);

@@ -13,7 +13,8 @@ LpTriplets EnsembleLp(const EquilibriumSystem& s) {
   const int n = s.NumUnknowns();
   LpTriplets lp;
   lp.AddColumns(n, 0.0, kInfinity);
-  for (int r = 0; r < s.NumRows(); ++r) lp.AddRow(s.load[r] / s.force_scale, s.load[r] / s.force_scale);
+  for (int r = 0; r < s.NumRows(); ++r)
+    lp.AddRow(s.load[r] / s.force_scale, s.load[r] / s.force_scale);
   for (int k = 0; k < s.matrix.outerSize(); ++k) {
     for (Eigen::SparseMatrix<double>::InnerIterator it(s.matrix, k); it; ++it) {
       lp.Add(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());

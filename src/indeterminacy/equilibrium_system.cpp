@@ -41,7 +41,8 @@ EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSy
     out.contacts.push_back(std::move(c));
   }
   const int per_particle = out.frictional ? 3 : 2;
-  const std::vector<int> first_row = NumberRows(scene, free, contact_count, per_particle, out.row_particle);
+  const std::vector<int> first_row =
+      NumberRows(scene, free, contact_count, per_particle, out.row_particle);
   const bool bath = scene.effects.pressure_bath.has_value();
   const int cell_row = static_cast<int>(out.row_particle.size());
   if (bath) out.row_particle.push_back(-1);
@@ -57,8 +58,9 @@ EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSy
   for (int k = 0; k < static_cast<int>(out.contacts.size()); ++k) {
     const Contact& c = out.contacts[k];
     const Vec2 tangent = Perp(c.normal);
-    for (auto [particle, sign, arm] : {std::tuple{c.i, -1.0, c.branch_i.norm()},
-                                       std::tuple{c.WithWall() ? -1 : c.j, 1.0, c.branch_j.norm()}}) {
+    for (auto [particle, sign, arm] :
+         {std::tuple{c.i, -1.0, c.branch_i.norm()},
+          std::tuple{c.WithWall() ? -1 : c.j, 1.0, c.branch_j.norm()}}) {
       if (particle < 0 || first_row[particle] < 0) continue;
       const int row = first_row[particle];
       t.emplace_back(row, stride * k, sign * c.normal.x());
@@ -68,7 +70,8 @@ EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSy
       t.emplace_back(row + 1, stride * k + 1, sign * tangent.y());
       t.emplace_back(row + 2, stride * k + 1, -arm);
     }
-    if (bath && !c.WithWall()) t.emplace_back(cell_row, stride * k, cell_row_scale * c.center_to_center.dot(c.normal));
+    if (bath && !c.WithWall())
+      t.emplace_back(cell_row, stride * k, cell_row_scale * c.center_to_center.dot(c.normal));
   }
   out.matrix.resize(static_cast<int>(out.row_particle.size()), out.NumUnknowns());
   out.matrix.setFromTriplets(t.begin(), t.end());
@@ -96,7 +99,8 @@ EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSy
   return out;
 }
 
-Eigen::VectorXd StoredForcesOf(const EquilibriumSystem& system, const std::vector<ContactForce>& stored) {
+Eigen::VectorXd StoredForcesOf(const EquilibriumSystem& system,
+                               const std::vector<ContactForce>& stored) {
   const ForcesByContact lookup(stored);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(system.NumUnknowns());
   const int stride = system.UnknownsPerContact();
@@ -109,7 +113,8 @@ Eigen::VectorXd StoredForcesOf(const EquilibriumSystem& system, const std::vecto
   return f;
 }
 
-std::vector<ContactForce> ToContactForces(const EquilibriumSystem& system, const Eigen::VectorXd& forces) {
+std::vector<ContactForce> ToContactForces(const EquilibriumSystem& system,
+                                          const Eigen::VectorXd& forces) {
   std::vector<ContactForce> out;
   const int stride = system.UnknownsPerContact();
   for (int k = 0; k < static_cast<int>(system.contacts.size()); ++k) {

@@ -28,7 +28,8 @@ const char* ToString(BoundStatus status) {
 }
 
 std::optional<BoundStatus> BoundStatusFromString(const std::string& name) {
-  for (BoundStatus status : {BoundStatus::kOptimal, BoundStatus::kUnbounded, BoundStatus::kInfeasible, BoundStatus::kFailed}) {
+  for (BoundStatus status : {BoundStatus::kOptimal, BoundStatus::kUnbounded,
+                             BoundStatus::kInfeasible, BoundStatus::kFailed}) {
     if (name == ToString(status)) return status;
   }
   return std::nullopt;
@@ -72,27 +73,31 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int kKeepFactorisation = 7;
 constexpr int kFactorizationFrequency = 100;
 
-Bound Optimise(ClpSimplex& model, int column, double sign, bool warm, bool bounds_changed, double scale,
-               long long& iterations) {
+Bound Optimise(ClpSimplex& model, int column, double sign, bool warm, bool bounds_changed,
+               double scale, long long& iterations) {
   model.setObjectiveCoefficient(column, sign);
   if (!warm) model.allSlackBasis(true);
   // A tightened bound leaves the basis dual feasible, not primal: dual simplex then.
-  Simplex(model, bounds_changed && warm, warm ? kKeepFactorisation : 0, !bounds_changed, iterations);
+  Simplex(model, bounds_changed && warm, warm ? kKeepFactorisation : 0, !bounds_changed,
+          iterations);
   Bound b = Outcome(model, sign, scale);
   model.setObjectiveCoefficient(column, 0.0);
   return b;
 }
 
 // The bound of one kind for contact k.
-Bound BoundOf(ClpSimplex& model, const EquilibriumSystem& s, int k, BoundKind kind, const BoundsOptions& o,
-              long long& iterations) {
+Bound BoundOf(ClpSimplex& model, const EquilibriumSystem& s, int k, BoundKind kind,
+              const BoundsOptions& o, long long& iterations) {
   const int normal = s.UnknownsPerContact() * k;
   if (o.lp == LpBackend::kIpopt) {
     const int fixed = kind == BoundKind::kMaxWithoutFriction ? normal + 1 : -1;
-    return indeterminacy_internal::IpoptBound(s, normal, kind == BoundKind::kMin ? 1.0 : -1.0, fixed, o.lp_tolerance, iterations);
+    return indeterminacy_internal::IpoptBound(s, normal, kind == BoundKind::kMin ? 1.0 : -1.0,
+                                              fixed, o.lp_tolerance, iterations);
   }
-  if (kind == BoundKind::kMin) return Optimise(model, normal, 1.0, o.warm_start, false, s.force_scale, iterations);
-  if (kind == BoundKind::kMax) return Optimise(model, normal, -1.0, o.warm_start, false, s.force_scale, iterations);
+  if (kind == BoundKind::kMin)
+    return Optimise(model, normal, 1.0, o.warm_start, false, s.force_scale, iterations);
+  if (kind == BoundKind::kMax)
+    return Optimise(model, normal, -1.0, o.warm_start, false, s.force_scale, iterations);
   const int tangential = normal + 1;
   model.setColumnBounds(tangential, 0.0, 0.0);
   const Bound b = Optimise(model, normal, -1.0, o.warm_start, true, s.force_scale, iterations);
@@ -125,7 +130,8 @@ KnownBounds ByContactAndKind(const std::vector<BoundRecord>& records) {
 // BoundsOptions::known by contact and kind, and the serialised BoundsOptions::on_bound.
 class BoundLog {
  public:
-  explicit BoundLog(const BoundsOptions& o) : known_(ByContactAndKind(o.known)), on_bound_(o.on_bound) {}
+  explicit BoundLog(const BoundsOptions& o)
+      : known_(ByContactAndKind(o.known)), on_bound_(o.on_bound) {}
   const Bound* Known(int contact, BoundKind kind) const {
     const auto it = known_.find({contact, kind});
     return it == known_.end() ? nullptr : &it->second;
@@ -147,31 +153,38 @@ class BoundLog {
 BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vector<int>& contacts,
                                 const Eigen::VectorXd& reference, const BoundsOptions& options) {
   if (options.shares < 1 || options.share < 0 || options.share >= options.shares) {
-    throw std::invalid_argument("ComputeForceBounds: share " + std::to_string(options.share) + " of " + std::to_string(options.shares));
+    throw std::invalid_argument("ComputeForceBounds: share " + std::to_string(options.share) +
+                                " of " + std::to_string(options.shares));
   }
   const auto start = std::chrono::steady_clock::now();
   BoundsReport report;
-  std::unique_ptr<ClpSimplex> base = indeterminacy_internal::EnsembleModel(system, options.lp_tolerance);
-  Simplex(*base, false, 0, true, report.lp_iterations);  // feasibility; the first basis of every block
+  std::unique_ptr<ClpSimplex> base =
+      indeterminacy_internal::EnsembleModel(system, options.lp_tolerance);
+  Simplex(*base, false, 0, true,
+          report.lp_iterations);  // feasibility; the first basis of every block
   report.feasible = base->isProvenOptimal();
   report.bounds.resize(contacts.size());
   const int stride = system.UnknownsPerContact();
   if (!report.feasible) {
     report.message = base->isProvenPrimalInfeasible()
-        ? "no admissible force network: the packing is not static within the gap tolerance (a carrying contact left out, or unbalanced particles)"
-        : "CLP stopped with status " + std::to_string(base->status());
+                         ? "no admissible force network: the packing is not static within the gap "
+                           "tolerance (a carrying contact left out, or unbalanced particles)"
+                         : "CLP stopped with status " + std::to_string(base->status());
     for (std::size_t a = 0; a < contacts.size(); ++a) {
       ContactBounds& b = report.bounds[a];
       b.contact = contacts[a];
       b.reference = reference.size() > 0 ? reference[stride * contacts[a]] : 0.0;
       b.min.status = b.max.status = b.max_without_friction.status = BoundStatus::kInfeasible;
     }
-    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
   }
   const int threads = options.lp == LpBackend::kIpopt ? 1 : options.threads;
-  const int blocks = std::max(1, std::min<int>(threads * options.shares, static_cast<int>(contacts.size())));
-  const int own_first = std::min(blocks, options.share * threads), own_last = std::min(blocks, (options.share + 1) * threads);
+  const int blocks =
+      std::max(1, std::min<int>(threads * options.shares, static_cast<int>(contacts.size())));
+  const int own_first = std::min(blocks, options.share * threads),
+            own_last = std::min(blocks, (options.share + 1) * threads);
   std::vector<long long> iterations(blocks, 0);
   // Blocks of the spatial order; within a block all maxima, then the maxima without
   // friction, then the minima: successive LPs differ least.
@@ -205,7 +218,8 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
     // the contacts they leave without force need no minimisation.
     for (BoundKind kind : {BoundKind::kMax, BoundKind::kMaxWithoutFriction, BoundKind::kMin}) {
       if (kind == BoundKind::kMaxWithoutFriction && !system.frictional) {  // the same LP as max
-        for (std::size_t a = first; a < last; ++a) report.bounds[order[a]].max_without_friction = report.bounds[order[a]].max;
+        for (std::size_t a = first; a < last; ++a)
+          report.bounds[order[a]].max_without_friction = report.bounds[order[a]].max;
         continue;
       }
       for (std::size_t a = first; a < last; ++a) {
@@ -220,7 +234,8 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
         // maximising network carries no tangential force at k: it is also the maximum
         // without friction (which is never larger).
         const bool zero_min = shortcuts && kind == BoundKind::kMin && zero_seen[k];
-        if (zero_min || (shortcuts && kind == BoundKind::kMaxWithoutFriction && max_without_tangential[k])) {
+        if (zero_min ||
+            (shortcuts && kind == BoundKind::kMaxWithoutFriction && max_without_tangential[k])) {
           b.Of(kind) = zero_min ? Bound{BoundStatus::kOptimal, 0.0} : b.max;
           ++skipped[block];
           log.Add({k, kind, b.Of(kind), 0, true});
@@ -253,7 +268,8 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
 }
 
 BoundsReport BoundsFromRecords(const EquilibriumSystem& system, const std::vector<int>& contacts,
-                               const Eigen::VectorXd& reference, const std::vector<BoundRecord>& known) {
+                               const Eigen::VectorXd& reference,
+                               const std::vector<BoundRecord>& known) {
   const auto start = std::chrono::steady_clock::now();
   const KnownBounds by_key = ByContactAndKind(known);
   const int stride = system.UnknownsPerContact();
@@ -285,7 +301,8 @@ double LargestColumnNorm(const Eigen::SparseMatrix<double>& a) {
   double largest = 0.0;
   for (int k = 0; k < a.outerSize(); ++k) {
     double norm2 = 0.0;
-    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it) norm2 += it.value() * it.value();
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it)
+      norm2 += it.value() * it.value();
     largest = std::max(largest, std::sqrt(norm2));
   }
   return largest;
@@ -298,7 +315,8 @@ int SparseRank(const Eigen::SparseMatrix<double>& a, double tolerance) {
   cholmod_l_start(&cc);
   Eigen::SparseMatrix<double> compressed = a;
   compressed.makeCompressed();
-  cholmod_sparse* m = cholmod_l_allocate_sparse(a.rows(), a.cols(), a.nonZeros(), 1, 1, 0, CHOLMOD_REAL, &cc);
+  cholmod_sparse* m =
+      cholmod_l_allocate_sparse(a.rows(), a.cols(), a.nonZeros(), 1, 1, 0, CHOLMOD_REAL, &cc);
   auto* p = static_cast<SuiteSparse_long*>(m->p);
   auto* i = static_cast<SuiteSparse_long*>(m->i);
   auto* x = static_cast<double*>(m->x);
@@ -309,7 +327,8 @@ int SparseRank(const Eigen::SparseMatrix<double>& a, double tolerance) {
   }
   cholmod_sparse* r = nullptr;
   SuiteSparse_long* e = nullptr;
-  const SuiteSparse_long rank = SuiteSparseQR<double>(SPQR_ORDERING_DEFAULT, tolerance, 0, m, &r, &e, &cc);
+  const SuiteSparse_long rank =
+      SuiteSparseQR<double>(SPQR_ORDERING_DEFAULT, tolerance, 0, m, &r, &e, &cc);
   cholmod_l_free_sparse(&r, &cc);
   if (e != nullptr) cholmod_l_free(a.cols(), sizeof(SuiteSparse_long), e, &cc);
   cholmod_l_free_sparse(&m, &cc);
@@ -356,7 +375,8 @@ Indeterminacy ForceIndeterminacy(const EquilibriumSystem& system) {
   // said 1374 for 1373 (μ = 0.1) and 1411 for 1409 (μ = 0.01).
   out.rank_of_a = SparseRank(a, out.tolerance);
   out.rank_transposed = SparseRank(a.transpose(), out.tolerance);
-  out.rank = std::min({out.rank_of_a, out.rank_transposed, out.equations - TranslationIdentities(system)});
+  out.rank =
+      std::min({out.rank_of_a, out.rank_transposed, out.equations - TranslationIdentities(system)});
   out.dimension = out.unknowns - out.rank;
   return out;
 }

@@ -20,7 +20,8 @@ class ForceLp : public Ipopt::TNLP {
   ForceLp(const EquilibriumSystem& s, int column, double sign, int fixed)
       : lp_(EnsembleLp(s)), column_(column), sign_(sign), fixed_(fixed) {}
 
-  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess, IndexStyleEnum& style) override {
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess,
+                    IndexStyleEnum& style) override {
     n = static_cast<Index>(lp_.col_lower.size());
     m = static_cast<Index>(lp_.row_lower.size());
     nnz_jac = static_cast<Index>(lp_.values.size());
@@ -40,7 +41,8 @@ class ForceLp : public Ipopt::TNLP {
     }
     return true;
   }
-  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool,
+                          Number*) override {
     for (Index c = 0; c < n; ++c) x[c] = 0.0;
     return true;
   }
@@ -55,22 +57,26 @@ class ForceLp : public Ipopt::TNLP {
   }
   bool eval_g(Index, const Number* x, bool, Index m, Number* g) override {
     for (Index r = 0; r < m; ++r) g[r] = 0.0;
-    for (std::size_t e = 0; e < lp_.values.size(); ++e) g[lp_.rows[e]] += lp_.values[e] * x[lp_.cols[e]];
+    for (std::size_t e = 0; e < lp_.values.size(); ++e)
+      g[lp_.rows[e]] += lp_.values[e] * x[lp_.cols[e]];
     return true;
   }
-  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* irow, Index* jcol, Number* values) override {
+  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* irow, Index* jcol,
+                  Number* values) override {
     if (values == nullptr) {
-      for (std::size_t e = 0; e < lp_.rows.size(); ++e) irow[e] = lp_.rows[e], jcol[e] = lp_.cols[e];
+      for (std::size_t e = 0; e < lp_.rows.size(); ++e)
+        irow[e] = lp_.rows[e], jcol[e] = lp_.cols[e];
     } else {
       for (std::size_t e = 0; e < lp_.values.size(); ++e) values[e] = lp_.values[e];
     }
     return true;
   }
-  bool eval_h(Index, const Number*, bool, Number, Index, const Number*, bool, Index, Index*, Index*, Number*) override {
+  bool eval_h(Index, const Number*, bool, Number, Index, const Number*, bool, Index, Index*, Index*,
+              Number*) override {
     return true;  // linear program: no Hessian entries
   }
-  void finalize_solution(Ipopt::SolverReturn, Index, const Number*, const Number*, const Number*, Index,
-                         const Number*, const Number*, Number obj, const Ipopt::IpoptData*,
+  void finalize_solution(Ipopt::SolverReturn, Index, const Number*, const Number*, const Number*,
+                         Index, const Number*, const Number*, Number obj, const Ipopt::IpoptData*,
                          Ipopt::IpoptCalculatedQuantities*) override {
     objective_ = obj;
   }
@@ -86,8 +92,8 @@ class ForceLp : public Ipopt::TNLP {
 
 }  // namespace
 
-Bound IpoptBound(const EquilibriumSystem& system, int normal_column, double sign, int fixed_tangential,
-                 double tolerance, long long& iterations) {
+Bound IpoptBound(const EquilibriumSystem& system, int normal_column, double sign,
+                 int fixed_tangential, double tolerance, long long& iterations) {
   Ipopt::SmartPtr<ForceLp> lp = new ForceLp(system, normal_column, sign, fixed_tangential);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
@@ -108,14 +114,9 @@ Bound IpoptBound(const EquilibriumSystem& system, int normal_column, double sign
       b.status = BoundStatus::kOptimal;
       b.value = sign * lp->objective() * system.force_scale;
       break;
-    case Ipopt::Infeasible_Problem_Detected:
-      b.status = BoundStatus::kInfeasible;
-      break;
-    case Ipopt::Diverging_Iterates:
-      b.status = BoundStatus::kUnbounded;
-      break;
-    default:
-      b.status = BoundStatus::kFailed;
+    case Ipopt::Infeasible_Problem_Detected: b.status = BoundStatus::kInfeasible; break;
+    case Ipopt::Diverging_Iterates: b.status = BoundStatus::kUnbounded; break;
+    default: b.status = BoundStatus::kFailed;
   }
   return b;
 }

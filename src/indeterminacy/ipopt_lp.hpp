@@ -9,7 +9,7 @@ namespace unjam::indeterminacy_internal {
 
 // Optimises sign · f_n of unknown `normal_column`, with f_t of `fixed_tangential` fixed at 0
 // if ≥ 0. sign = +1: minimum, −1: maximum. Returns the bound (in force units).
-Bound IpoptBound(const EquilibriumSystem& system, int normal_column, double sign, int fixed_tangential,
-                 double tolerance, long long& iterations);
+Bound IpoptBound(const EquilibriumSystem& system, int normal_column, double sign,
+                 int fixed_tangential, double tolerance, long long& iterations);
 
 }  // namespace unjam::indeterminacy_internal

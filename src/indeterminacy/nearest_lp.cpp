@@ -27,7 +27,8 @@ LpOutcome Infeasible() {
 
 }  // namespace
 
-LpOutcome NearestAdmissibleByLinearProgram(const EquilibriumSystem& s, const Eigen::VectorXd& reference) {
+LpOutcome NearestAdmissibleByLinearProgram(const EquilibriumSystem& s,
+                                           const Eigen::VectorXd& reference) {
   LpTriplets lp = EnsembleLp(s);
   if (ProvenInfeasible(lp)) return Infeasible();
   // Columns [f | d⁺ | d⁻]; rows [the ensemble | f − d⁺ + d⁻ = f⁰ / F].

@@ -13,12 +13,13 @@ namespace unjam::indeterminacy_internal {
 
 struct LpOutcome {
   AdmissibleStatus status = AdmissibleStatus::kFailed;
-  Eigen::VectorXd forces;   // when admissible
+  Eigen::VectorXd forces;  // when admissible
   std::string message;
 };
 
 //   minimise Σ |f − f⁰| / F   subject to  A f = b,  f_n ≥ 0,  |f_t| ≤ μ f_n
 // (F the force scale; the problem is scaled by it so that CLP's tolerances are relative).
-LpOutcome NearestAdmissibleByLinearProgram(const EquilibriumSystem& system, const Eigen::VectorXd& reference);
+LpOutcome NearestAdmissibleByLinearProgram(const EquilibriumSystem& system,
+                                           const Eigen::VectorXd& reference);
 
 }  // namespace unjam::indeterminacy_internal

@@ -10,7 +10,8 @@
 
 namespace unjam::indeterminacy_internal {
 
-std::vector<Region> ClassifyRegions(const EquilibriumSystem& s, const Eigen::VectorXd& f, double edge_tolerance) {
+std::vector<Region> ClassifyRegions(const EquilibriumSystem& s, const Eigen::VectorXd& f,
+                                    double edge_tolerance) {
   const int stride = s.UnknownsPerContact();
   std::vector<Region> regions(s.contacts.size(), Region::kOff);
   for (std::size_t k = 0; k < regions.size(); ++k) {
@@ -34,7 +35,8 @@ struct Directions {
   Eigen::VectorXd base;
 };
 
-Directions FreeDirections(const EquilibriumSystem& s, const Eigen::VectorXd& f, const std::vector<Region>& regions) {
+Directions FreeDirections(const EquilibriumSystem& s, const Eigen::VectorXd& f,
+                          const std::vector<Region>& regions) {
   const int stride = s.UnknownsPerContact();
   Directions d;
   d.base = Eigen::VectorXd::Zero(s.NumUnknowns());
@@ -43,8 +45,7 @@ Directions FreeDirections(const EquilibriumSystem& s, const Eigen::VectorXd& f, 
   for (std::size_t k = 0; k < regions.size(); ++k) {
     const int n = stride * static_cast<int>(k);
     switch (regions[k]) {
-      case Region::kOff:
-        break;
+      case Region::kOff: break;
       case Region::kInside:
         d.base[n] = std::max(f[n], 0.0);
         if (stride == 2) d.base[n + 1] = std::clamp(f[n + 1], -s.mu * d.base[n], s.mu * d.base[n]);
@@ -69,7 +70,8 @@ Directions FreeDirections(const EquilibriumSystem& s, const Eigen::VectorXd& f, 
 
 // Moves contacts that left their region (negative normal force: off; outside the cone:
 // onto the edge it crossed). Returns the number of contacts moved.
-int UpdateRegions(const EquilibriumSystem& s, const Eigen::VectorXd& f, std::vector<Region>& regions) {
+int UpdateRegions(const EquilibriumSystem& s, const Eigen::VectorXd& f,
+                  std::vector<Region>& regions) {
   const int stride = s.UnknownsPerContact();
   int moved = 0;
   for (std::size_t k = 0; k < regions.size(); ++k) {
@@ -87,7 +89,8 @@ int UpdateRegions(const EquilibriumSystem& s, const Eigen::VectorXd& f, std::vec
 }
 
 // The least-squares correction of smallest norm within fixed regions.
-std::optional<Eigen::VectorXd> CorrectWithinRegions(const EquilibriumSystem& s, const Eigen::VectorXd& reference,
+std::optional<Eigen::VectorXd> CorrectWithinRegions(const EquilibriumSystem& s,
+                                                    const Eigen::VectorXd& reference,
                                                     const std::vector<Region>& regions) {
   const Directions d = FreeDirections(s, reference, regions);
   // A particle whose rows are dependent (too few contacts) makes B Bᵀ singular: the
@@ -106,8 +109,10 @@ std::optional<Eigen::VectorXd> CorrectWithinRegions(const EquilibriumSystem& s, 
 
 }  // namespace
 
-std::optional<Eigen::VectorXd> ProjectOntoAdmissible(const EquilibriumSystem& s, const Eigen::VectorXd& reference,
-                                                     std::vector<Region> regions, double tolerance, int max_rounds) {
+std::optional<Eigen::VectorXd> ProjectOntoAdmissible(const EquilibriumSystem& s,
+                                                     const Eigen::VectorXd& reference,
+                                                     std::vector<Region> regions, double tolerance,
+                                                     int max_rounds) {
   for (int round = 0; round < max_rounds; ++round) {
     std::optional<Eigen::VectorXd> f = CorrectWithinRegions(s, reference, regions);
     if (!f) return std::nullopt;

@@ -23,9 +23,10 @@ constexpr double kOpeningFraction = 1e-9;
 
 // What one shift changes in the ensemble's LP.
 struct ShiftLp {
-  std::vector<std::pair<int, double>> objective;  // F_crit = Σ c·f (columns in units of the force scale)
-  std::vector<int> released_rows;                 // P's balance
-  std::vector<int> unloaded_contacts;             // opened contacts with fixed bodies
+  std::vector<std::pair<int, double>>
+      objective;                       // F_crit = Σ c·f (columns in units of the force scale)
+  std::vector<int> released_rows;      // P's balance
+  std::vector<int> unloaded_contacts;  // opened contacts with fixed bodies
 };
 
 // Particles that balance (have rows) in the system.
@@ -39,7 +40,8 @@ std::vector<char> Balancing(const EquilibriumSystem& s) {
   return out;
 }
 
-ShiftLp Describe(const EquilibriumSystem& s, const std::vector<char>& balancing, const ShiftTarget& t) {
+ShiftLp Describe(const EquilibriumSystem& s, const std::vector<char>& balancing,
+                 const ShiftTarget& t) {
   ShiftLp lp;
   for (int r = 0; r < s.NumRows(); ++r) {
     if (s.row_particle[r] == t.particle) lp.released_rows.push_back(r);
@@ -53,9 +55,11 @@ ShiftLp Describe(const EquilibriumSystem& s, const std::vector<char>& balancing,
     // F_crit = −ŝ·(force on P).
     const double sign = p_is_i ? 1.0 : -1.0;
     lp.objective.emplace_back(stride * k, sign * t.direction.dot(c.normal));
-    if (s.frictional) lp.objective.emplace_back(stride * k + 1, sign * t.direction.dot(Perp(c.normal)));
+    if (s.frictional)
+      lp.objective.emplace_back(stride * k + 1, sign * t.direction.dot(Perp(c.normal)));
     const int other = p_is_i ? c.j : c.i;
-    const bool other_fixed = (p_is_i && c.WithWall()) || other >= static_cast<int>(balancing.size()) || !balancing[other];
+    const bool other_fixed = (p_is_i && c.WithWall()) ||
+                             other >= static_cast<int>(balancing.size()) || !balancing[other];
     // The gap grows at (v_j − v_i)·n, P moving along ŝ and the fixed body at rest.
     const double opening = (p_is_i ? -1.0 : 1.0) * t.direction.dot(c.normal);
     if (other_fixed && opening > kOpeningFraction) lp.unloaded_contacts.push_back(k);
@@ -76,7 +80,8 @@ double ReferenceValue(const ShiftLp& lp, const Eigen::VectorXd& reference) {
 // (a bottom shift of the μ = 1 pile whose min is unbounded), so such an outcome is
 // checked once more by the primal simplex from the slack basis, which finds its feasible
 // point first.
-Bound Optimise(ClpSimplex& model, const ShiftLp& lp, double sign, bool warm, double scale, long long& iterations) {
+Bound Optimise(ClpSimplex& model, const ShiftLp& lp, double sign, bool warm, double scale,
+               long long& iterations) {
   for (auto [column, c] : lp.objective) model.setObjectiveCoefficient(column, sign * c);
   if (!warm) model.allSlackBasis(true);
   indeterminacy_internal::Simplex(model, false, 0, true, iterations);
@@ -89,8 +94,8 @@ Bound Optimise(ClpSimplex& model, const ShiftLp& lp, double sign, bool warm, dou
 }
 
 // The min and max of one shift, into b.
-void BoundShift(const ClpSimplex& base, const EquilibriumSystem& s, const ShiftLp& lp, const BoundsOptions& o,
-                ShiftBounds& b, long long& iterations) {
+void BoundShift(const ClpSimplex& base, const EquilibriumSystem& s, const ShiftLp& lp,
+                const BoundsOptions& o, ShiftBounds& b, long long& iterations) {
   ClpSimplex model(base);  // the unperturbed ensemble's optimal basis: the warm start
   for (int r : lp.released_rows) model.setRowBounds(r, -kInfinity, kInfinity);
   const int stride = s.UnknownsPerContact();
@@ -103,12 +108,16 @@ void BoundShift(const ClpSimplex& base, const EquilibriumSystem& s, const ShiftL
 
 }  // namespace
 
-ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system, const std::vector<ShiftTarget>& shifts,
-                                     const Eigen::VectorXd& reference, const BoundsOptions& options) {
-  if (options.lp != LpBackend::kClp) throw std::invalid_argument("shift bounds are computed with CLP only");
+ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system,
+                                     const std::vector<ShiftTarget>& shifts,
+                                     const Eigen::VectorXd& reference,
+                                     const BoundsOptions& options) {
+  if (options.lp != LpBackend::kClp)
+    throw std::invalid_argument("shift bounds are computed with CLP only");
   const auto start = std::chrono::steady_clock::now();
   ShiftBoundsReport report;
-  std::unique_ptr<ClpSimplex> base = indeterminacy_internal::EnsembleModel(system, options.lp_tolerance);
+  std::unique_ptr<ClpSimplex> base =
+      indeterminacy_internal::EnsembleModel(system, options.lp_tolerance);
   indeterminacy_internal::Simplex(*base, false, 0, true, report.lp_iterations);
   report.feasible = base->isProvenOptimal();
   report.bounds.resize(shifts.size());
@@ -121,9 +130,10 @@ ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system, const std:
     report.bounds[a].unloaded_contacts = static_cast<int>(lps[a].unloaded_contacts.size());
   }
   if (!report.feasible) {
-    report.message = base->isProvenPrimalInfeasible()
-        ? "no admissible force network: the packing is not static within the gap tolerance"
-        : "CLP stopped with status " + std::to_string(base->status());
+    report.message =
+        base->isProvenPrimalInfeasible()
+            ? "no admissible force network: the packing is not static within the gap tolerance"
+            : "CLP stopped with status " + std::to_string(base->status());
     for (ShiftBounds& b : report.bounds) b.min.status = b.max.status = BoundStatus::kInfeasible;
   } else {
     const int blocks = std::max(1, std::min<int>(options.threads, static_cast<int>(shifts.size())));
@@ -132,7 +142,8 @@ ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system, const std:
       // Each thread copies the shared model once, as the contact bounds do, and every
       // shift of its block starts from that private copy: no two threads read one model.
       const ClpSimplex own(*base);
-      for (std::size_t a = shifts.size() * block / blocks; a < shifts.size() * (block + 1) / blocks; ++a) {
+      for (std::size_t a = shifts.size() * block / blocks; a < shifts.size() * (block + 1) / blocks;
+           ++a) {
         BoundShift(own, system, lps[a], options, report.bounds[a], iterations[block]);
       }
     };

@@ -34,7 +34,8 @@ bool WriteAll(int fd, std::string_view content) {
 // Makes the rename itself durable. Best effort: some file systems refuse fsync on a
 // directory, and the data is already safe in the renamed file.
 void SyncDirectory(const std::filesystem::path& path) {
-  const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  const std::filesystem::path dir =
+      path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
   const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) return;
   ::fsync(fd);

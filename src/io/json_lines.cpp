@@ -41,7 +41,9 @@ JsonLines ParseJsonLines(const std::string& text, const std::filesystem::path& p
 
 }  // namespace
 
-JsonLines ReadJsonLines(const std::filesystem::path& path) { return ParseJsonLines(ReadInputText(path), path); }
+JsonLines ReadJsonLines(const std::filesystem::path& path) {
+  return ParseJsonLines(ReadInputText(path), path);
+}
 
 bool HasHeaderLine(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -51,14 +53,15 @@ bool HasHeaderLine(const std::filesystem::path& path) {
 
 std::ofstream AppendTo(const std::filesystem::path& path, const nlohmann::json& header) {
   const bool fresh = !HasHeaderLine(path);
-  std::ofstream out(path, fresh ? std::ios::trunc | std::ios::binary : std::ios::app | std::ios::binary);
+  std::ofstream out(path,
+                    fresh ? std::ios::trunc | std::ios::binary : std::ios::app | std::ios::binary);
   if (!out) throw OutputError(path.string() + ": cannot open for writing");
   if (fresh) out << header.dump() << '\n' << std::flush;
   return out;
 }
 
-void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found, const nlohmann::json& expected,
-                   const std::string& remedy) {
+void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found,
+                   const nlohmann::json& expected, const std::string& remedy) {
   if (found == expected) return;
   std::string keys;
   for (const auto& [key, value] : expected.items()) {
@@ -67,12 +70,14 @@ void RequireHeader(const std::filesystem::path& path, const nlohmann::json& foun
   for (const auto& [key, value] : found.items()) {
     if (!expected.contains(key)) keys += (keys.empty() ? "" : ", ") + key;
   }
-  throw std::invalid_argument(path.string() + " holds a run with other parameters (" + keys + "): " + remedy);
+  throw std::invalid_argument(path.string() + " holds a run with other parameters (" + keys +
+                              "): " + remedy);
 }
 
 std::filesystem::path RankPath(const std::filesystem::path& path, int rank) {
   if (rank == 0) return path;
-  return path.parent_path() / (path.stem().string() + ".rank" + std::to_string(rank) + path.extension().string());
+  return path.parent_path() /
+         (path.stem().string() + ".rank" + std::to_string(rank) + path.extension().string());
 }
 
 namespace {
@@ -80,7 +85,8 @@ namespace {
 // The files named as rank files of `path` (X.rank<r>.jsonl beside X.jsonl), sorted by name.
 std::vector<std::filesystem::path> RankNamed(const std::filesystem::path& path) {
   const std::string prefix = path.stem().string() + ".rank", suffix = path.extension().string();
-  const std::filesystem::path dir = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+  const std::filesystem::path dir =
+      path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
   std::vector<std::filesystem::path> ranks;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     const std::string name = entry.path().filename().string();
@@ -104,7 +110,8 @@ std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path) 
   return files;
 }
 
-void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header, const std::string& remedy) {
+void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header,
+                    const std::string& remedy) {
   for (const std::filesystem::path& from : RankNamed(path)) {
     if (!HasHeaderLine(from)) {  // a rank that ended before its header: nothing to merge
       std::filesystem::remove(from);

@@ -37,24 +37,31 @@ void WriteHolder(int fd) {
 // True if `fd` is still the file at `path`: a holder removes the file as it releases it, so
 // a lock taken on a file opened just before that removal guards nothing.
 bool StillTheFile(int fd, const std::filesystem::path& path) {
-  struct stat opened {}, named {};
-  return ::fstat(fd, &opened) == 0 && ::stat(path.c_str(), &named) == 0 && opened.st_dev == named.st_dev &&
-         opened.st_ino == named.st_ino;
+  struct stat opened {};
+  struct stat named {};
+  return ::fstat(fd, &opened) == 0 && ::stat(path.c_str(), &named) == 0 &&
+         opened.st_dev == named.st_dev && opened.st_ino == named.st_ino;
 }
 
 }  // namespace
 
-OutputLock::OutputLock(const std::filesystem::path& lock_file, const std::string& output) : path_(lock_file) {
+OutputLock::OutputLock(const std::filesystem::path& lock_file, const std::string& output)
+    : path_(lock_file) {
   for (;;) {
     fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (fd_ < 0) throw OutputError("cannot create the lock file '" + path_.string() + "' of " + output + ": " + std::strerror(errno));
+    if (fd_ < 0)
+      throw OutputError("cannot create the lock file '" + path_.string() + "' of " + output + ": " +
+                        std::strerror(errno));
     if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
       const int error = errno;
       ::close(fd_);
-      if (error != EWOULDBLOCK) throw OutputError("cannot lock '" + path_.string() + "': " + std::strerror(error));
+      if (error != EWOULDBLOCK)
+        throw OutputError("cannot lock '" + path_.string() + "': " + std::strerror(error));
       const std::string holder = Holder(path_);
-      throw OutputError(output + " is being written by another run (" + (holder.empty() ? "a process" : holder) + " holds " +
-                        path_.string() + "): two runs on one output would mix their results; wait for it to end, or choose another output");
+      throw OutputError(output + " is being written by another run (" +
+                        (holder.empty() ? "a process" : holder) + " holds " + path_.string() +
+                        "): two runs on one output would mix their results; wait for it to end, or "
+                        "choose another output");
     }
     if (StillTheFile(fd_, path_)) break;
     ::close(fd_);

@@ -16,7 +16,8 @@ namespace {
 std::string Index(int k) { return std::to_string(k); }
 
 // Periodic images only make sense along periodic axes.
-void CheckImage(const std::array<int, 2>& image, Periodicity periodicity, const std::string& name, int line) {
+void CheckImage(const std::array<int, 2>& image, Periodicity periodicity, const std::string& name,
+                int line) {
   if (image[0] != 0 && !PeriodicX(periodicity))
     throw InputError(name, line, "image x must be 0: x is not periodic");
   if (image[1] != 0 && !PeriodicY(periodicity))
@@ -54,9 +55,9 @@ void CheckPrescribed(const Scene& scene, const SourceLines& source, const std::s
           name, line,
           "prescribed-motion particle " + Index(p) + " out of range (" + Index(n) + " particles)");
     if (motion_line[p] != 0) {
-      throw InputError(
-          name, line,
-          "particle " + Index(p) + " already has a prescribed motion (line " + Index(motion_line[p]) + ")");
+      throw InputError(name, line,
+                       "particle " + Index(p) + " already has a prescribed motion (line " +
+                           Index(motion_line[p]) + ")");
     }
     motion_line[p] = line;
   }
@@ -64,9 +65,11 @@ void CheckPrescribed(const Scene& scene, const SourceLines& source, const std::s
   for (std::size_t k = 0; k < gaps.size(); ++k) {
     const int line = source.gaps[k];
     if (gaps[k].i >= n || gaps[k].j >= n) {
-      throw InputError(name, line, "prescribed-gap particle out of range (" + Index(n) + " particles)");
+      throw InputError(name, line,
+                       "prescribed-gap particle out of range (" + Index(n) + " particles)");
     }
-    if (gaps[k].i == gaps[k].j) throw InputError(name, line, "prescribed-gap needs two different particles");
+    if (gaps[k].i == gaps[k].j)
+      throw InputError(name, line, "prescribed-gap needs two different particles");
     CheckImage(gaps[k].image, scene.cell.periodicity, name, line);
   }
 }
@@ -86,11 +89,13 @@ void CheckDuplicateForces(const Scene& scene, const SourceLines& source, const s
     const ContactForce& f = scene.forces[k];
     const auto [first, inserted] = first_line.emplace(ContactKey(f), source.forces[k]);
     if (inserted) continue;
-    const std::string contact = IsWallIndex(f.j) ? "particle " + Index(f.i) + " on wall " + Index(JToWallIndex(f.j)) + " ("
-                                                 : "particles " + Index(f.i) + " and " + Index(f.j) + " (image " +
-                                                       Index(f.image[0]) + " " + Index(f.image[1]) + "; ";
-    throw InputError(name, source.forces[k],
-                     "duplicate force of " + contact + "first given on line " + Index(first->second) + ")");
+    const std::string contact =
+        IsWallIndex(f.j) ? "particle " + Index(f.i) + " on wall " + Index(JToWallIndex(f.j)) + " ("
+                         : "particles " + Index(f.i) + " and " + Index(f.j) + " (image " +
+                               Index(f.image[0]) + " " + Index(f.image[1]) + "; ";
+    throw InputError(
+        name, source.forces[k],
+        "duplicate force of " + contact + "first given on line " + Index(first->second) + ")");
   }
 }
 
@@ -102,20 +107,23 @@ void CheckForces(const Scene& scene, const SourceLines& source, const std::strin
     const ContactForce& f = scene.forces[k];
     const int line = source.forces[k];
     if (f.i >= n)
-      throw InputError(name, line,
-                       "force particle i = " + Index(f.i) + " out of range (" + Index(n) + " particles)");
+      throw InputError(
+          name, line,
+          "force particle i = " + Index(f.i) + " out of range (" + Index(n) + " particles)");
     if (IsWallIndex(f.j)) {
       if (JToWallIndex(f.j) >= walls) {
         throw InputError(name, line,
                          "force wall j = " + Index(f.j) + " (wall " + Index(JToWallIndex(f.j)) +
                              ") out of range (" + Index(walls) + " walls)");
       }
-      if (f.image != std::array<int, 2>{0, 0}) throw InputError(name, line, "a wall force has image 0 0");
+      if (f.image != std::array<int, 2>{0, 0})
+        throw InputError(name, line, "a wall force has image 0 0");
       continue;
     }
     if (f.j >= n)
-      throw InputError(name, line,
-                       "force particle j = " + Index(f.j) + " out of range (" + Index(n) + " particles)");
+      throw InputError(
+          name, line,
+          "force particle j = " + Index(f.j) + " out of range (" + Index(n) + " particles)");
     if (f.i == f.j) throw InputError(name, line, "a force needs two different particles");
     CheckImage(f.image, scene.cell.periodicity, name, line);
   }
@@ -124,10 +132,12 @@ void CheckForces(const Scene& scene, const SourceLines& source, const std::strin
 
 // Contact detection uses minimum images, which needs periodic lengths of at least
 // 2 (2 R_max + margin); a smaller cell cannot be simulated, so it is bad input.
-void CheckCellSize(const Scene& scene, double margin, const SourceLines& source, const std::string& name) {
+void CheckCellSize(const Scene& scene, double margin, const SourceLines& source,
+                   const std::string& name) {
   const double needed = 2.0 * (2.0 * MaxRadius(scene) + margin);
   for (int axis = 0; axis < 2; ++axis) {
-    const bool periodic = axis == 0 ? PeriodicX(scene.cell.periodicity) : PeriodicY(scene.cell.periodicity);
+    const bool periodic =
+        axis == 0 ? PeriodicX(scene.cell.periodicity) : PeriodicY(scene.cell.periodicity);
     if (!periodic || scene.cell.size[axis] >= needed) continue;
     throw InputError(name, source.cell,
                      std::string("periodic cell length ") + (axis == 0 ? "Lx" : "Ly") + " = " +
@@ -159,15 +169,16 @@ void CheckOverlaps(const Scene& scene, const SourceLines& source, const std::str
     }
   }
   if (first == nullptr) return;
-  const std::string amount =
-      " by " + DoubleToString(-first->gap) + " (tolerance " + DoubleToString(options.overlap_tolerance) + ")";
+  const std::string amount = " by " + DoubleToString(-first->gap) + " (tolerance " +
+                             DoubleToString(options.overlap_tolerance) + ")";
   if (first->WithWall()) {
     throw InputError(
         name, first_line,
         "particle " + Index(first->i) + " overlaps wall " + Index(JToWallIndex(first->j)) + amount);
   }
-  throw InputError(name, first_line,
-                   "particles " + Index(first->i) + " and " + Index(first->j) + " overlap" + amount);
+  throw InputError(
+      name, first_line,
+      "particles " + Index(first->i) + " and " + Index(first->j) + " overlap" + amount);
 }
 
 }  // namespace
@@ -175,7 +186,8 @@ void CheckOverlaps(const Scene& scene, const SourceLines& source, const std::str
 void CheckPacking(const Scene& scene, const SourceLines& source, const std::string& name,
                   const ReadOptions& options) {
   if (scene.effects.pressure_bath && scene.cell.periodicity != Periodicity::kXY) {
-    throw InputError(name, source.pressure_bath, "pressure-bath needs a fully periodic cell (periodic xy)");
+    throw InputError(name, source.pressure_bath,
+                     "pressure-bath needs a fully periodic cell (periodic xy)");
   }
   CheckPositions(scene, source, name);
   CheckPrescribed(scene, source, name);

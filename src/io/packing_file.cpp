@@ -32,7 +32,8 @@ std::string FormatWhat(const std::string& file, int line, const std::string& mes
 }  // namespace
 
 InputError::InputError(const std::string& file, int line, const std::string& message)
-    : std::runtime_error(FormatWhat(file, line, message)), file_(file), line_(line), message_(message) {}
+    : std::runtime_error(FormatWhat(file, line, message)), file_(file), line_(line),
+      message_(message) {}
 
 namespace {
 
@@ -174,7 +175,8 @@ void PackingParser::ParseHeader() {
   const std::string expected =
       "expected the header '" + std::string(kHeader) + " " + std::to_string(kVersion) + "'";
   if (!NextRecord()) Fail(LastLine(), "missing header: " + expected + " (empty file)");
-  if (fields_[0] != kHeader) Fail(line_number_, "missing header: " + expected + ", got " + Quote(fields_[0]));
+  if (fields_[0] != kHeader)
+    Fail(line_number_, "missing header: " + expected + ", got " + Quote(fields_[0]));
   ExpectValues(1, "format version");
   const long long version = ParseInteger(fields_[1], "format version", 0, LLONG_MAX);
   if (version != kVersion) {
@@ -196,8 +198,8 @@ void PackingParser::ParseKeyLine() {
   if (IsSingleKey(key)) {
     const auto [first, inserted] = single_keys_.emplace(key, line_number_);
     if (!inserted) {
-      Fail(line_number_,
-           "duplicate key " + Quote(key) + " (first given on line " + std::to_string(first->second) + ")");
+      Fail(line_number_, "duplicate key " + Quote(key) + " (first given on line " +
+                             std::to_string(first->second) + ")");
     }
   }
   if (key == "particles") {
@@ -294,8 +296,9 @@ void PackingParser::ParseParticles() {
 
 void PackingParser::ParseParticleLine() {
   if (fields_.count != 9) {
-    throw FieldError("a particle line has 9 fields (x y angle vx vy spin radius density fixed), got " +
-                     std::to_string(fields_.count));
+    throw FieldError(
+        "a particle line has 9 fields (x y angle vx vy spin radius density fixed), got " +
+        std::to_string(fields_.count));
   }
   Particle p;
   p.position = Vec2(Value(0, "x"), Value(1, "y"));
@@ -304,8 +307,10 @@ void PackingParser::ParseParticleLine() {
   p.spin = Value(5, "spin");
   p.radius = Value(6, "radius");
   p.density = Value(7, "density");
-  if (!(p.radius > 0.0)) throw FieldError("radius must be positive, got " + DoubleToString(p.radius));
-  if (!(p.density > 0.0)) throw FieldError("density must be positive, got " + DoubleToString(p.density));
+  if (!(p.radius > 0.0))
+    throw FieldError("radius must be positive, got " + DoubleToString(p.radius));
+  if (!(p.density > 0.0))
+    throw FieldError("density must be positive, got " + DoubleToString(p.density));
   if (fields_[8] != "0" && fields_[8] != "1")
     throw FieldError("fixed must be 0 or 1, got " + Quote(fields_[8]));
   p.fixed = fields_[8] == "1";
@@ -333,7 +338,8 @@ void PackingParser::ParseForces() {
     force.normal = Value(4, "normal force");
     force.tangential = Value(5, "tangential force");
     // A contact pushes, never pulls: a negative normal force is no static force of rigid disks.
-    if (force.normal < 0.0) throw FieldError("normal force must not be negative, got " + DoubleToString(force.normal));
+    if (force.normal < 0.0)
+      throw FieldError("normal force must not be negative, got " + DoubleToString(force.normal));
     scene_.forces.push_back(force);
     source_.forces.push_back(line_number_);
   }
@@ -343,7 +349,8 @@ void PackingParser::ParseForces() {
 
 // The rest of the line after one separator, verbatim: free text may contain '#'.
 void PackingParser::ParseProvenance() {
-  const std::size_t key_end = static_cast<std::size_t>(fields_[0].data() - line_.data()) + fields_[0].size();
+  const std::size_t key_end =
+      static_cast<std::size_t>(fields_[0].data() - line_.data()) + fields_[0].size();
   std::string_view rest = line_.substr(key_end);
   if (!rest.empty() && io_internal::IsFieldSeparator(rest.front())) {
     rest.remove_prefix(1);

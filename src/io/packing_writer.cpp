@@ -21,12 +21,9 @@ void AppendInts(std::string& out, std::initializer_list<long long> values) {
 
 const char* PeriodicityName(Periodicity p) {
   switch (p) {
-    case Periodicity::kX:
-      return "x";
-    case Periodicity::kXY:
-      return "xy";
-    case Periodicity::kNone:
-      break;
+    case Periodicity::kX: return "x";
+    case Periodicity::kXY: return "xy";
+    case Periodicity::kNone: break;
   }
   return "none";
 }
@@ -72,7 +69,8 @@ void AppendHeaderAndEffects(const Scene& scene, std::string& out) {
   }
   out += "seed " + std::to_string(scene.seed) + "\n";
   // An empty provenance is simply left out: the reader's default is empty.
-  if (!scene.provenance.empty()) out += "provenance " + io_internal::EscapeText(scene.provenance) + "\n";
+  if (!scene.provenance.empty())
+    out += "provenance " + io_internal::EscapeText(scene.provenance) + "\n";
 }
 
 }  // namespace
@@ -86,8 +84,8 @@ std::string FormatPacking(const Scene& scene) {
   out += "# x y angle vx vy spin radius density fixed\n";
   for (const Particle& p : scene.particles) {
     AppendDouble(out, p.position.x());
-    AppendDoubles(out,
-                  {p.position.y(), p.angle, p.velocity.x(), p.velocity.y(), p.spin, p.radius, p.density});
+    AppendDoubles(out, {p.position.y(), p.angle, p.velocity.x(), p.velocity.y(), p.spin, p.radius,
+                        p.density});
     out += p.fixed ? " 1\n" : " 0\n";
   }
   if (!scene.forces.empty()) {

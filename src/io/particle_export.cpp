@@ -16,7 +16,6 @@ namespace {
 using io_internal::AppendDouble;
 using io_internal::AppendDoubles;
 
-
 // One line of values separated by single spaces.
 void AppendRow(std::string& out, std::initializer_list<double> values) {
   const std::size_t begin = out.size();
@@ -141,7 +140,8 @@ const char* Flag(bool value) { return value ? "T" : "F"; }
 
 void WriteVtk(const Scene& scene, const ParticleField& field, const std::filesystem::path& path) {
   CheckField(scene, field);
-  std::string out = "# vtk DataFile Version 3.0\nunjam particles and contact forces\nASCII\nDATASET POLYDATA\n";
+  std::string out =
+      "# vtk DataFile Version 3.0\nunjam particles and contact forces\nASCII\nDATASET POLYDATA\n";
   AppendVtkGeometry(scene, field, out);
   if (!scene.particles.empty() || !field.forces.empty()) {
     AppendVtkPointData(scene, field, out);
@@ -150,7 +150,8 @@ void WriteVtk(const Scene& scene, const ParticleField& field, const std::filesys
   WriteFileAtomically(path, out);
 }
 
-void WriteExtendedXyz(const Scene& scene, const ParticleField& field, const std::filesystem::path& path) {
+void WriteExtendedXyz(const Scene& scene, const ParticleField& field,
+                      const std::filesystem::path& path) {
   CheckField(scene, field);
   const Periodicity periodicity = scene.cell.periodicity;
   std::string out = std::to_string(scene.particles.size()) + "\nLattice=\"";

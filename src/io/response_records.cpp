@@ -13,8 +13,12 @@ namespace unjam {
 namespace {
 // JSON has no NaN: empty profile bins, and the linearity check's fields when not checked,
 // are written as null.
-nlohmann::json NumberOrNull(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
-double NumberOrNaN(const nlohmann::json& j) { return j.is_number() ? j.get<double>() : std::nan(""); }
+nlohmann::json NumberOrNull(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+double NumberOrNaN(const nlohmann::json& j) {
+  return j.is_number() ? j.get<double>() : std::nan("");
+}
 
 nlohmann::json WithNulls(const std::vector<double>& v) {
   nlohmann::json out = nlohmann::json::array();
@@ -24,13 +28,17 @@ nlohmann::json WithNulls(const std::vector<double>& v) {
 
 std::vector<double> FromNulls(const nlohmann::json& j) {
   std::vector<double> out;
-  for (const auto& x : j) out.push_back(x.is_null() ? std::numeric_limits<double>::quiet_NaN() : x.get<double>());
+  for (const auto& x : j)
+    out.push_back(x.is_null() ? std::numeric_limits<double>::quiet_NaN() : x.get<double>());
   return out;
 }
 
 nlohmann::json TargetJson(const PerturbationTarget& t) {
   const bool shift = t.kind == PerturbationTarget::Kind::kParticleShift;
-  return {{"kind", shift ? "shift" : "opening"}, {"i", t.i}, {"j", t.j}, {"image", t.image},
+  return {{"kind", shift ? "shift" : "opening"},
+          {"i", t.i},
+          {"j", t.j},
+          {"image", t.image},
           {"direction", {t.direction.x(), t.direction.y()}}};
 }
 
@@ -50,18 +58,28 @@ nlohmann::json ToJson(const ReducedResponse& r) {
   return {{"target", TargetJson(r.target)},
           {"origin", {r.origin.x(), r.origin.y()}},
           {"axis", {r.axis.x(), r.axis.y()}},
-          {"f_crit", r.f_crit}, {"f_reference", r.f_reference},
-          {"penetration_depth", r.penetration_depth}, {"cell_strain", r.cell_strain},
-          {"pressure_change", r.pressure_change}, {"inertia_ratio", r.inertia_ratio},
+          {"f_crit", r.f_crit},
+          {"f_reference", r.f_reference},
+          {"penetration_depth", r.penetration_depth},
+          {"cell_strain", r.cell_strain},
+          {"pressure_change", r.pressure_change},
+          {"inertia_ratio", r.inertia_ratio},
           {"inertial_force", r.inertial_force},
-          {"fcrit_10xi", NumberOrNull(r.fcrit_10xi)}, {"linearity_misfit", NumberOrNull(r.linearity_misfit)},
-          {"equilibrium_residual", r.equilibrium_residual}, {"residual", r.residual},
-          {"seconds", r.seconds}, {"iterations", r.iterations}, {"status", r.status},
-          {"message", r.message}, {"backend", r.backend},
+          {"fcrit_10xi", NumberOrNull(r.fcrit_10xi)},
+          {"linearity_misfit", NumberOrNull(r.linearity_misfit)},
+          {"equilibrium_residual", r.equilibrium_residual},
+          {"residual", r.residual},
+          {"seconds", r.seconds},
+          {"iterations", r.iterations},
+          {"status", r.status},
+          {"message", r.message},
+          {"backend", r.backend},
           {"rattler", r.rattler},
           {"displacement_profile", WithNulls(r.displacement_profile)},
           {"force_profile", WithNulls(r.force_profile)},
-          {"field", r.field}, {"field_count", r.field_count}, {"stress", r.stress}};
+          {"field", r.field},
+          {"field_count", r.field_count},
+          {"stress", r.stress}};
 }
 
 ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::string& where) {
@@ -70,14 +88,17 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.target = TargetFromJson(j.at("target"));
     r.origin = Vec2(j.at("origin")[0].get<double>(), j.at("origin")[1].get<double>());
     r.axis = Vec2(j.at("axis")[0].get<double>(), j.at("axis")[1].get<double>());
-    r.f_crit = j.at("f_crit").is_null() ? std::nan("") : j.at("f_crit").get<double>();  // null: blocked
+    r.f_crit =
+        j.at("f_crit").is_null() ? std::nan("") : j.at("f_crit").get<double>();  // null: blocked
     r.f_reference = j.at("f_reference").get<double>();
     r.penetration_depth = j.at("penetration_depth").get<double>();
     r.cell_strain = j.at("cell_strain").get<double>();
     r.pressure_change = j.at("pressure_change").get<double>();
     r.inertia_ratio = j.at("inertia_ratio").get<double>();
-    r.inertial_force = NumberOrNaN(j.value("inertial_force", nlohmann::json()));  // absent in earlier records
-    r.fcrit_10xi = NumberOrNaN(j.value("fcrit_10xi", nlohmann::json()));  // null or absent: not checked
+    r.inertial_force =
+        NumberOrNaN(j.value("inertial_force", nlohmann::json()));  // absent in earlier records
+    r.fcrit_10xi =
+        NumberOrNaN(j.value("fcrit_10xi", nlohmann::json()));  // null or absent: not checked
     r.linearity_misfit = NumberOrNaN(j.value("linearity_misfit", nlohmann::json()));
     r.equilibrium_residual = j.at("equilibrium_residual").get<double>();
     r.residual = j.at("residual").get<double>();
@@ -104,8 +125,11 @@ RecordsFile ReadRecords(const std::filesystem::path& path) {
   out.header = std::move(file.header);
   out.valid_bytes = file.valid_bytes;
   for (const auto& [line, j] : file.lines) {
-    if (!j.contains("index") || !j["index"].is_number_integer()) throw InputError(path.string(), line, "record without an integer \"index\"");
-    out.records.emplace_back(j["index"].get<int>(), ReducedResponseFromJson(j, path.string() + ":" + std::to_string(line)));
+    if (!j.contains("index") || !j["index"].is_number_integer())
+      throw InputError(path.string(), line, "record without an integer \"index\"");
+    out.records.emplace_back(
+        j["index"].get<int>(),
+        ReducedResponseFromJson(j, path.string() + ":" + std::to_string(line)));
   }
   return out;
 }

@@ -83,10 +83,14 @@ void AppendSparseBlock(std::string& out, const Eigen::SparseMatrix<double>& w) {
 
 std::string FormatSiconosProblem(const DelassusProblem& p, SiconosStorage storage) {
   Validate(p);
-  if (p.NumContacts() == 0) throw std::invalid_argument("the problem has no contacts: a Siconos problem needs at least one");
+  if (p.NumContacts() == 0)
+    throw std::invalid_argument(
+        "the problem has no contacts: a Siconos problem needs at least one");
   for (int k = 0; k < p.NumContacts(); ++k) {
     if (p.laws[k].kind == ConstraintKind::kBilateral) {
-      throw std::invalid_argument("contact " + std::to_string(k) + " is held at a prescribed gap (bilateral): Siconos' friction-contact problem has unilateral contacts only");
+      throw std::invalid_argument("contact " + std::to_string(k) +
+                                  " is held at a prescribed gap (bilateral): Siconos' "
+                                  "friction-contact problem has unilateral contacts only");
     }
   }
   std::string out;
@@ -104,7 +108,8 @@ std::string FormatSiconosProblem(const DelassusProblem& p, SiconosStorage storag
   return out;
 }
 
-void WriteSiconosProblem(const DelassusProblem& p, const std::filesystem::path& path, SiconosStorage storage) {
+void WriteSiconosProblem(const DelassusProblem& p, const std::filesystem::path& path,
+                         SiconosStorage storage) {
   std::string text;
   try {
     text = FormatSiconosProblem(p, storage);
@@ -116,10 +121,12 @@ void WriteSiconosProblem(const DelassusProblem& p, const std::filesystem::path& 
 
 void WriteImpulses(const Eigen::VectorXd& impulses, const std::filesystem::path& path) {
   if (impulses.size() % 2 != 0) {
-    throw OutputError("cannot write '" + path.string() + "': " + std::to_string(impulses.size()) + " impulses, expected two per contact");
+    throw OutputError("cannot write '" + path.string() + "': " + std::to_string(impulses.size()) +
+                      " impulses, expected two per contact");
   }
   std::string text;
-  for (Eigen::Index k = 0; k < impulses.size() / 2; ++k) AppendValues(text, impulses.segment<2>(2 * k));
+  for (Eigen::Index k = 0; k < impulses.size() / 2; ++k)
+    AppendValues(text, impulses.segment<2>(2 * k));
   WriteFileAtomically(path, text);
 }
 

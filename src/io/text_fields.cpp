@@ -72,11 +72,13 @@ double ParseDouble(std::string_view token, std::string_view what) {
   // from_chars rejects '+', but people write it; allow exactly one, before a digit or '.'.
   if (!digits.empty() && digits.front() == '+') {
     digits.remove_prefix(1);
-    if (digits.empty() || !(digits.front() == '.' || (digits.front() >= '0' && digits.front() <= '9'))) {
+    if (digits.empty() ||
+        !(digits.front() == '.' || (digits.front() >= '0' && digits.front() <= '9'))) {
       throw FieldError(Message(what, "malformed number", token));
     }
   }
-  const std::string_view body = !digits.empty() && digits.front() == '-' ? digits.substr(1) : digits;
+  const std::string_view body =
+      !digits.empty() && digits.front() == '-' ? digits.substr(1) : digits;
   // from_chars accepts "nan", "inf" and "infinity"; a scene never holds them.
   if (!body.empty() &&
       (body.front() == 'n' || body.front() == 'N' || body.front() == 'i' || body.front() == 'I')) {
@@ -89,11 +91,13 @@ double ParseDouble(std::string_view token, std::string_view what) {
     throw FieldError(Message(what, "number outside the range of a double", token));
   }
   if (ec != std::errc() || ptr != end) throw FieldError(Message(what, "malformed number", token));
-  if (!std::isfinite(value)) throw FieldError(Message(what, "NaN or infinity is not allowed, got", token));
+  if (!std::isfinite(value))
+    throw FieldError(Message(what, "NaN or infinity is not allowed, got", token));
   return value;
 }
 
-long long ParseInteger(std::string_view token, std::string_view what, long long min, long long max) {
+long long ParseInteger(std::string_view token, std::string_view what, long long min,
+                       long long max) {
   long long value = 0;
   const char* end = token.data() + token.size();
   const auto [ptr, ec] = std::from_chars(token.data(), end, value);
@@ -171,7 +175,8 @@ std::string UnescapeText(std::string_view text) {
     }
     const int high = next == 'x' && k + 2 < text.size() ? HexValue(text[k + 2]) : -1;
     const int low = high >= 0 && k + 3 < text.size() ? HexValue(text[k + 3]) : -1;
-    if (low < 0) throw FieldError(Message("provenance", "bad escape sequence at", text.substr(k, 4)));
+    if (low < 0)
+      throw FieldError(Message("provenance", "bad escape sequence at", text.substr(k, 4)));
     out += static_cast<char>(high * 16 + low);
     k += 3;
   }

@@ -38,8 +38,8 @@ void LoadIntoClp(const LpTriplets& lp, ClpSimplex& model) {
                           static_cast<CoinBigIndex>(lp.values.size()));
   matrix.setDimensions(lp.NumRows(), lp.NumColumns());
   model.setLogLevel(0);
-  model.loadProblem(matrix, lp.col_lower.data(), lp.col_upper.data(), lp.objective.data(), lp.row_lower.data(),
-                    lp.row_upper.data());
+  model.loadProblem(matrix, lp.col_lower.data(), lp.col_upper.data(), lp.objective.data(),
+                    lp.row_lower.data(), lp.row_upper.data());
 }
 
 void LoadIntoClp(const LpTriplets& lp, double tolerance, ClpSimplex& model) {

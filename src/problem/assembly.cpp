@@ -15,7 +15,9 @@ void NumberBodies(const Scene& scene, AssembledProblem& out) {
   out.body_of_particle.assign(n, -1);
   std::vector<char> prescribed(n, 0);
   for (const PrescribedMotion& m : scene.effects.prescribed_motion) {
-    if (m.particle < 0 || m.particle >= n) throw std::invalid_argument("prescribed motion names particle " + std::to_string(m.particle) + ", which does not exist");
+    if (m.particle < 0 || m.particle >= n)
+      throw std::invalid_argument("prescribed motion names particle " + std::to_string(m.particle) +
+                                  ", which does not exist");
     prescribed[m.particle] = 1;
   }
   for (int i = 0; i < n; ++i) {
@@ -73,7 +75,8 @@ std::pair<Vec2, double> KnownMotion(const Scene& scene, int particle) {
 const PrescribedGap* FindPrescribedGap(const Scene& scene, const Contact& c) {
   for (const PrescribedGap& g : scene.effects.prescribed_gaps) {
     if (g.i == c.i && g.j == c.j && g.image == c.image) return &g;
-    if (g.i == c.j && g.j == c.i && g.image[0] == -c.image[0] && g.image[1] == -c.image[1]) return &g;
+    if (g.i == c.j && g.j == c.i && g.image[0] == -c.image[0] && g.image[1] == -c.image[1])
+      return &g;
   }
   return nullptr;
 }
@@ -114,7 +117,8 @@ ProblemContact MakeProblemContact(const Scene& scene, const Contact& c, const As
 // its constraint within the step (close it beyond its gap, or move a held gap): the normal
 // velocity they give it is its bias, the one it needs its target (MakeProblemContact).
 // `out`: the problem so far, in which neither side has degrees of freedom.
-bool ViolatesImmovable(const Scene& scene, const Contact& c, const AssembledProblem& out, const AssemblyOptions& options) {
+bool ViolatesImmovable(const Scene& scene, const Contact& c, const AssembledProblem& out,
+                       const AssemblyOptions& options) {
   const ProblemContact pc = MakeProblemContact(scene, c, out, options);
   const double given = pc.bias.x();
   const double slack = options.closed_gap_tolerance / options.dt + 1e-12 * std::abs(given);
@@ -139,7 +143,8 @@ AssembledProblem AssembleProblem(const Scene& scene, const std::vector<Contact>&
   out.source_contact.reserve(contacts.size());
   // Against gravity, for NSGS's height order (ProblemContact::height).
   std::optional<Vec2> up;
-  if (scene.effects.gravity && scene.effects.gravity->norm() > 0.0) up = -scene.effects.gravity->normalized();
+  if (scene.effects.gravity && scene.effects.gravity->norm() > 0.0)
+    up = -scene.effects.gravity->normalized();
   for (int k = 0; k < static_cast<int>(contacts.size()); ++k) {
     const Contact& c = contacts[k];
     const bool i_moves = out.body_of_particle[c.i] >= 0;
@@ -166,7 +171,8 @@ void EnsurePrescribedContacts(const Scene& scene, std::vector<Contact>& contacts
   const int n = static_cast<int>(scene.particles.size());
   for (const PrescribedGap& g : scene.effects.prescribed_gaps) {
     if (g.i < 0 || g.i >= n || g.j < 0 || g.j >= n || g.i == g.j) {
-      throw std::invalid_argument("prescribed gap names particles " + std::to_string(g.i) + ", " + std::to_string(g.j) + ": no such pair");
+      throw std::invalid_argument("prescribed gap names particles " + std::to_string(g.i) + ", " +
+                                  std::to_string(g.j) + ": no such pair");
     }
     Contact c = g.i < g.j ? MakeContact(scene, g.i, g.j, g.image)
                           : MakeContact(scene, g.j, g.i, {-g.image[0], -g.image[1]});

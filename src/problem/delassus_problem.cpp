@@ -45,15 +45,18 @@ void Validate(const DelassusProblem& p) {
   const int n = p.NumUnknowns();
   const std::string size = std::to_string(n);
   if (p.w.rows() != n || p.w.cols() != n) {
-    Reject("W is " + std::to_string(p.w.rows()) + " x " + std::to_string(p.w.cols()) + ", expected " + size + " x " + size + " (two rows per contact)");
+    Reject("W is " + std::to_string(p.w.rows()) + " x " + std::to_string(p.w.cols()) +
+           ", expected " + size + " x " + size + " (two rows per contact)");
   }
   if (p.q.size() != n) Reject("q has " + std::to_string(p.q.size()) + " entries, expected " + size);
   if (p.initial_guess.size() != 0 && p.initial_guess.size() != n) {
-    Reject("the warm start has " + std::to_string(p.initial_guess.size()) + " entries, expected 0 or " + size);
+    Reject("the warm start has " + std::to_string(p.initial_guess.size()) +
+           " entries, expected 0 or " + size);
   }
   for (int k = 0; k < p.NumContacts(); ++k) {
     if (!(p.laws[k].mu >= 0.0) || !std::isfinite(p.laws[k].mu)) {
-      Reject("contact " + std::to_string(k) + " has friction coefficient " + std::to_string(p.laws[k].mu) + " (must be finite and >= 0)");
+      Reject("contact " + std::to_string(k) + " has friction coefficient " +
+             std::to_string(p.laws[k].mu) + " (must be finite and >= 0)");
     }
   }
 }

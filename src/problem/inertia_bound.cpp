@@ -43,8 +43,8 @@ ImpulseColumns AddImpulseColumns(const ContactProblem& p, lp::LpTriplets& lp) {
 }
 
 // Per degree of freedom d, −t ≤ c_d + a_d·x ≤ t: two rows, in units of s_d.
-void AddInertiaRows(const ContactProblem& p, const Eigen::VectorXd& scale, double reference, int t_column,
-                    const ImpulseColumns& columns, lp::LpTriplets& lp) {
+void AddInertiaRows(const ContactProblem& p, const Eigen::VectorXd& scale, double reference,
+                    int t_column, const ImpulseColumns& columns, lp::LpTriplets& lp) {
   const Eigen::SparseMatrix<double> h = AssembleJacobian(p);  // column d: H's entries of dof d
   const Eigen::VectorXd inv_mass = InverseMassDiagonal(p);
   const Eigen::VectorXd free = FreeVelocityVector(p);
@@ -109,7 +109,8 @@ struct HeldContactInertia::Model {
   std::vector<int> held_column;               // per contact: its spare free normal column
 };
 
-HeldContactInertia::HeldContactInertia(const ContactProblem& p, const Eigen::VectorXd& scale) : model_(std::make_unique<Model>()) {
+HeldContactInertia::HeldContactInertia(const ContactProblem& p, const Eigen::VectorXd& scale)
+    : model_(std::make_unique<Model>()) {
   CheckScales(p, scale);
   if (p.NumDofs() == 0) return;
   if (IsUnloaded(p)) {
@@ -141,7 +142,8 @@ InertiaBound HeldContactInertia::WithHeld(int contact) const {
   const Model& m = *model_;
   if (m.unloaded) return {};
   if (!m.ready) return {0.0, false, "the unperturbed inertia LP was not solved", 0};
-  if (contact < 0 || contact >= static_cast<int>(m.held_column.size())) throw std::out_of_range("HeldContactInertia: no such contact");
+  if (contact < 0 || contact >= static_cast<int>(m.held_column.size()))
+    throw std::out_of_range("HeldContactInertia: no such contact");
   ClpSimplex model(m.solved);  // its basis and solution: the dual simplex continues from them
   for (int column : m.law_columns[contact]) model.setColumnBounds(column, 0.0, 0.0);
   model.setColumnBounds(m.held_column[contact], -kInfinity, kInfinity);

@@ -15,7 +15,8 @@ namespace {
 // The velocity scale of the step's prescriptions: the largest |offset| of a normal row.
 double VelocityScale(const Eigen::VectorXd& offset, const ContactProblem& p) {
   double scale = 0.0;
-  for (int k = 0; k < p.NumContacts(); ++k) scale = std::max(scale, std::abs(offset[k * p.UnknownsPerContact()]));
+  for (int k = 0; k < p.NumContacts(); ++k)
+    scale = std::max(scale, std::abs(offset[k * p.UnknownsPerContact()]));
   return scale;
 }
 
@@ -34,7 +35,8 @@ KinematicAdmissibility CheckKinematicAdmissibility(const ContactProblem& p) {
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int r = k * p.UnknownsPerContact();  // the normal row; tangential rows are free
     const double bound = -offset[r] / scale;
-    const int row = lp.AddRow(bound, p.contacts[k].kind == ConstraintKind::kBilateral ? bound : inf);
+    const int row =
+        lp.AddRow(bound, p.contacts[k].kind == ConstraintKind::kBilateral ? bound : inf);
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(h, r); it; ++it) {
       lp.Add(row, static_cast<int>(it.col()), it.value());
     }
@@ -50,7 +52,8 @@ KinematicAdmissibility CheckKinematicAdmissibility(const ContactProblem& p) {
     case 0: return out;
     case 1:
       out.admissible = false;
-      out.message = "no motion satisfies the step's non-penetration (the kinematic LP is infeasible)";
+      out.message =
+          "no motion satisfies the step's non-penetration (the kinematic LP is infeasible)";
       return out;
     default:
       out.decided = false;

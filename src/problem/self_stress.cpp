@@ -30,7 +30,8 @@ struct Cholmod {
 cholmod_sparse* ToCholmod(const Eigen::SparseMatrix<double>& a, cholmod_common* cc) {
   Eigen::SparseMatrix<double> compressed = a;
   compressed.makeCompressed();
-  cholmod_sparse* m = cholmod_l_allocate_sparse(a.rows(), a.cols(), compressed.nonZeros(), 1, 1, 0, CHOLMOD_REAL, cc);
+  cholmod_sparse* m = cholmod_l_allocate_sparse(a.rows(), a.cols(), compressed.nonZeros(), 1, 1, 0,
+                                                CHOLMOD_REAL, cc);
   auto* p = static_cast<SuiteSparse_long*>(m->p);
   auto* i = static_cast<SuiteSparse_long*>(m->i);
   auto* x = static_cast<double*>(m->x);
@@ -43,8 +44,8 @@ cholmod_sparse* ToCholmod(const Eigen::SparseMatrix<double>& a, cholmod_common* 
 }
 
 // Q [0; I] of the QR factorisation: the columns of Q from `rank` on.
-Eigen::MatrixXd TrailingColumnsOfQ(SuiteSparseQR_factorization<double>* qr, Eigen::Index rows, Eigen::Index rank,
-                                   cholmod_common* cc) {
+Eigen::MatrixXd TrailingColumnsOfQ(SuiteSparseQR_factorization<double>* qr, Eigen::Index rows,
+                                   Eigen::Index rank, cholmod_common* cc) {
   const Eigen::Index count = rows - rank;
   cholmod_dense* x = cholmod_l_zeros(rows, count, CHOLMOD_REAL, cc);
   auto* xv = static_cast<double*>(x->x);
@@ -72,7 +73,8 @@ SelfStressBasis ComputeSelfStresses(const Eigen::SparseMatrix<double>& h) {
   SuiteSparseQR_factorization<double>* qr =
       SuiteSparseQR_factorize<double>(SPQR_ORDERING_DEFAULT, out.tolerance, a, &cholmod.cc);
   cholmod_l_free_sparse(&a, &cholmod.cc);
-  if (qr == nullptr) throw std::runtime_error("SuiteSparseQR could not factorise the contact Jacobian");
+  if (qr == nullptr)
+    throw std::runtime_error("SuiteSparseQR could not factorise the contact Jacobian");
   out.rank = static_cast<int>(qr->rank);
   const Eigen::MatrixXd candidates = TrailingColumnsOfQ(qr, h.rows(), qr->rank, &cholmod.cc);
   SuiteSparseQR_free<double>(&qr, &cholmod.cc);
@@ -87,11 +89,13 @@ SelfStressBasis ComputeSelfStresses(const Eigen::SparseMatrix<double>& h) {
     }
   }
   out.basis.resize(h.rows(), static_cast<Eigen::Index>(kept.size()));
-  for (std::size_t k = 0; k < kept.size(); ++k) out.basis.col(static_cast<Eigen::Index>(k)) = candidates.col(kept[k]);
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    out.basis.col(static_cast<Eigen::Index>(k)) = candidates.col(kept[k]);
   return out;
 }
 
-Eigen::MatrixXd ExtendSelfStresses(const Eigen::MatrixXd& basis, const Eigen::SparseMatrix<double>& h,
+Eigen::MatrixXd ExtendSelfStresses(const Eigen::MatrixXd& basis,
+                                   const Eigen::SparseMatrix<double>& h,
                                    const std::vector<int>& released_columns) {
   if (released_columns.empty()) return basis;
   // z = H (HᵀH + εI)⁻¹ e_d: the least-norm impulses with Hᵀz = e_d; the ridge only keeps
@@ -101,7 +105,8 @@ Eigen::MatrixXd ExtendSelfStresses(const Eigen::MatrixXd& basis, const Eigen::Sp
   for (Eigen::Index d = 0; d < normal.rows(); ++d) normal.coeffRef(d, d) += ridge;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt(normal);
   if (llt.info() != Eigen::Success) throw std::runtime_error("CHOLMOD could not factorise HᵀH");
-  Eigen::MatrixXd extended(basis.rows(), basis.cols() + static_cast<Eigen::Index>(released_columns.size()));
+  Eigen::MatrixXd extended(basis.rows(),
+                           basis.cols() + static_cast<Eigen::Index>(released_columns.size()));
   extended.leftCols(basis.cols()) = basis;
   Eigen::Index count = basis.cols();
   for (int d : released_columns) {
@@ -110,7 +115,8 @@ Eigen::MatrixXd ExtendSelfStresses(const Eigen::MatrixXd& basis, const Eigen::Sp
     Eigen::VectorXd z = h * llt.solve(e);
     // Only the released balance may change: a column H cannot reach gives z ≈ 0.
     const double reach = (h.transpose() * z - e).norm();
-    for (Eigen::Index j = basis.cols(); j < count; ++j) z -= extended.col(j).dot(z) * extended.col(j);
+    for (Eigen::Index j = basis.cols(); j < count; ++j)
+      z -= extended.col(j).dot(z) * extended.col(j);
     const double length = z.norm();
     if (!(length > 1e-9) || reach > 1e-6) continue;
     extended.col(count++) = z / length;

@@ -38,7 +38,8 @@ double MaxGap(const Scene& scene, const std::vector<ContactKey>& keys) {
 
 }  // namespace
 
-ClosureReport CloseContacts(Scene& scene, const std::vector<ContactKey>& keys, const ClosureOptions& o) {
+ClosureReport CloseContacts(Scene& scene, const std::vector<ContactKey>& keys,
+                            const ClosureOptions& o) {
   ClosureReport report;
   int columns = 0;
   const std::vector<int> column = NumberColumns(scene, columns);
@@ -60,7 +61,8 @@ ClosureReport CloseContacts(Scene& scene, const std::vector<ContactKey>& keys, c
         t.emplace_back(k, column[p], sign * c.normal.x());
         t.emplace_back(k, column[p] + 1, sign * c.normal.y());
       }
-      if (cell_moves && !c.WithWall()) t.emplace_back(k, cell_column, c.center_to_center.dot(c.normal));
+      if (cell_moves && !c.WithWall())
+        t.emplace_back(k, cell_column, c.center_to_center.dot(c.normal));
     }
     Eigen::SparseMatrix<double> g(static_cast<int>(keys.size()), columns);
     g.setFromTriplets(t.begin(), t.end());
@@ -79,7 +81,8 @@ ClosureReport CloseContacts(Scene& scene, const std::vector<ContactKey>& keys, c
     report.max_gap = MaxGap(scene, keys);
   }
   for (std::size_t i = 0; i < start.size(); ++i) {
-    report.max_displacement = std::max(report.max_displacement, (scene.particles[i].position - start[i].position).norm());
+    report.max_displacement =
+        std::max(report.max_displacement, (scene.particles[i].position - start[i].position).norm());
   }
   WrapPositions(scene);
   report.closed = report.max_gap <= o.tolerance;

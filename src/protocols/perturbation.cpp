@@ -14,11 +14,11 @@
 #include <stdexcept>
 #include <thread>
 
+#include "perturbation_rate.hpp"
 #include "unjam/analysis/equilibrium.hpp"
 #include "unjam/problem/inertia_bound.hpp"
 #include "unjam/problem/kinematic_admissibility.hpp"
 #include "unjam/protocols/static_solve.hpp"
-#include "perturbation_rate.hpp"
 
 namespace unjam {
 
@@ -42,13 +42,14 @@ const char* ToString(CellCondition condition) {
 CellCondition CellConditionFromString(const std::string& name) {
   if (name == "fixed-pressure") return CellCondition::kFixedPressure;
   if (name == "fixed-volume") return CellCondition::kFixedVolume;
-  throw std::invalid_argument("unknown cell condition '" + name + "' (known: fixed-pressure, fixed-volume)");
+  throw std::invalid_argument("unknown cell condition '" + name +
+                              "' (known: fixed-pressure, fixed-volume)");
 }
 
 namespace {
 bool LemkeOptionsGiven(const PerturbationOptions& o) {
-  return o.solver.lemke_warm_start || o.solver.lemke_pivots_per_row > 0 || o.solver.lemke_box_rate_first ||
-         o.prefer_quasi_static;
+  return o.solver.lemke_warm_start || o.solver.lemke_pivots_per_row > 0 ||
+         o.solver.lemke_box_rate_first || o.prefer_quasi_static;
 }
 
 bool FixedVolumeCell(const PerturbationOptions& options, const Scene& scene) {
@@ -72,7 +73,8 @@ std::string StepBackend(const PerturbationOptions& options, const Scene& scene) 
 }
 
 bool AutoLeavesLemkeForSize(const PerturbationOptions& options, const Scene& scene) {
-  const bool automatic = options.backend == "auto" || options.backend == "rate";  // "rate": auto, resolved
+  const bool automatic =
+      options.backend == "auto" || options.backend == "rate";  // "rate": auto, resolved
   if (!automatic || !scene.effects.Frictional() || FixedVolumeCell(options, scene)) return false;
   // An option only lemke reads says which backend the user means, whatever the size.
   if (LemkeOptionsGiven(options)) return false;
@@ -86,7 +88,8 @@ bool AutoLeavesLemkeForSize(const PerturbationOptions& options, const Scene& sce
 
 std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene) {
   if (options.fallback == "none") return "";
-  if (options.fallback != "auto") return options.fallback == PerturbationBackend(options, scene) ? "" : options.fallback;
+  if (options.fallback != "auto")
+    return options.fallback == PerturbationBackend(options, scene) ? "" : options.fallback;
   if (options.backend != "auto") return "";
   if (StepBackend(options, scene) == "lemke") return "ipopt";
   // Frictional steps that `auto` gives to newton have no fallback: at fixed volume lemke
@@ -112,7 +115,8 @@ void Validate(const PerturbationOptions& o) {
           "response tolerance must be in (0, 1)");
   require(o.max_inertia_ratio > 0.0, "inertia ratio threshold must be positive");
   require(o.solver_tolerance >= 0.0, "solver tolerance must be positive");
-  require(o.fallback == "auto" || o.fallback == "none" || MakeSolver(o.fallback) != nullptr, "unknown fallback backend");
+  require(o.fallback == "auto" || o.fallback == "none" || MakeSolver(o.fallback) != nullptr,
+          "unknown fallback backend");
   Validate(o.solver);
 }
 
@@ -123,7 +127,8 @@ double DetectionMargin(const PerturbationOptions& options) {
 double SolverToleranceFor(const PerturbationOptions& options, const PerturbationBase& base) {
   if (options.solver_tolerance > 0.0) return options.solver_tolerance;
   const double force = base.mean_contact_force > 0.0 ? base.mean_contact_force : 1.0;
-  return options.response_tolerance * options.gap * 0.5 * base.mean_mass / (force * options.dt * options.dt);
+  return options.response_tolerance * options.gap * 0.5 * base.mean_mass /
+         (force * options.dt * options.dt);
 }
 
 namespace {
@@ -146,8 +151,8 @@ Vec2 ForceVector(const Contact& c, const Eigen::Vector2d& f) {
 
 // Calls visit(f) with the force f that each contact exerts on particle p.
 template <class Visit>
-void ForEachForceOn(int p, const std::vector<Contact>& contacts, const std::vector<Eigen::Vector2d>& forces,
-                    Visit visit) {
+void ForEachForceOn(int p, const std::vector<Contact>& contacts,
+                    const std::vector<Eigen::Vector2d>& forces, Visit visit) {
   for (std::size_t k = 0; k < contacts.size(); ++k) {
     const Contact& c = contacts[k];
     if (c.i == p) visit(Vec2(-ForceVector(c, forces[k])));
@@ -156,7 +161,8 @@ void ForEachForceOn(int p, const std::vector<Contact>& contacts, const std::vect
 }
 
 // Σ of the contact forces acting on particle p.
-Vec2 ContactForceOn(int p, const std::vector<Contact>& contacts, const std::vector<Eigen::Vector2d>& forces) {
+Vec2 ContactForceOn(int p, const std::vector<Contact>& contacts,
+                    const std::vector<Eigen::Vector2d>& forces) {
   Vec2 sum = Vec2::Zero();
   ForEachForceOn(p, contacts, forces, [&](const Vec2& f) { sum += f; });
   return sum;
@@ -164,7 +170,8 @@ Vec2 ContactForceOn(int p, const std::vector<Contact>& contacts, const std::vect
 
 // Effective weight F_y: the sum of the positive vertical components of the contact forces
 // on particle p.
-double EffectiveWeight(int p, const std::vector<Contact>& contacts, const std::vector<Eigen::Vector2d>& forces) {
+double EffectiveWeight(int p, const std::vector<Contact>& contacts,
+                       const std::vector<Eigen::Vector2d>& forces) {
   double sum = 0.0;
   ForEachForceOn(p, contacts, forces, [&](const Vec2& f) { sum += std::max(f.y(), 0.0); });
   return sum;
@@ -196,7 +203,8 @@ std::vector<ContactForceChange> ForceChanges(const PerturbationBase& base,
   for (std::size_t b = 0; b < after.contacts.size(); ++b) {
     const Contact& c = after.contacts[b];
     while (a < base.contacts.size() && ContactKeyLess(base.contacts[a], c)) ++a;
-    ContactForceChange change{c.i, c.j, c.image, base.scene.particles[c.i].position + c.branch_i,
+    ContactForceChange change{c.i,      c.j,
+                              c.image,  base.scene.particles[c.i].position + c.branch_i,
                               c.normal, c.center_to_center};
     if (a < base.contacts.size() && SameContactKey(base.contacts[a], c)) {
       change.normal_before = base.forces[a][0];
@@ -240,10 +248,12 @@ double InertiaRatio(const PerturbationBase& base, const PerturbationResult& r, d
   for (std::size_t i = 0; i < r.displacement.size(); ++i) {
     const Particle& p = base.scene.particles[i];
     largest = std::max(largest, p.Mass() * r.displacement[i].norm() / force);
-    if (!r.rotation.empty()) largest = std::max(largest, p.Inertia() * std::abs(r.rotation[i]) / (force * p.radius));
+    if (!r.rotation.empty())
+      largest = std::max(largest, p.Inertia() * std::abs(r.rotation[i]) / (force * p.radius));
   }
   if (base.scene.effects.pressure_bath) {
-    largest = std::max(largest, CellInertia(base.scene) * std::abs(r.cell_strain) / CellScale(base.scene));
+    largest = std::max(largest,
+                       CellInertia(base.scene) * std::abs(r.cell_strain) / CellScale(base.scene));
   }
   return largest / (dt * dt);
 }
@@ -264,13 +274,16 @@ Eigen::VectorXd InertiaScales(const PerturbationBase& base, const AssembledProbl
 
 // The inertial work over the step, over ξ: grains, and the cell under a pressure bath (its
 // strain ε = ΔL/L moves with mass M_λ D V, docs/method.md).
-double InertialForce(const PerturbationBase& base, const PerturbationResult& r, double gap, double dt) {
+double InertialForce(const PerturbationBase& base, const PerturbationResult& r, double gap,
+                     double dt) {
   double work = 0.0;
   for (std::size_t i = 0; i < r.displacement.size(); ++i) {
     const Particle& p = base.scene.particles[i];
-    work += p.Mass() * r.displacement[i].squaredNorm() + p.Inertia() * r.rotation[i] * r.rotation[i];
+    work +=
+        p.Mass() * r.displacement[i].squaredNorm() + p.Inertia() * r.rotation[i] * r.rotation[i];
   }
-  if (base.scene.effects.pressure_bath) work += CellInertia(base.scene) * r.cell_strain * r.cell_strain;
+  if (base.scene.effects.pressure_bath)
+    work += CellInertia(base.scene) * r.cell_strain * r.cell_strain;
   return work / (gap * dt * dt);
 }
 
@@ -299,7 +312,8 @@ void SetOriginAndReference(const PerturbationBase& base, const PerturbationTarge
 
 double CriticalForce(const PerturbationTarget& t, const StaticSolution& s) {
   if (t.kind == PerturbationTarget::Kind::kParticleShift) {
-    return 0.0 - t.direction.dot(ContactForceOn(t.i, s.contacts, s.forces));  // +0, not −0, when nothing pushes
+    return 0.0 - t.direction.dot(
+                     ContactForceOn(t.i, s.contacts, s.forces));  // +0, not −0, when nothing pushes
   }
   const int k = FindContact(s.contacts, t.i, t.j, t.image);
   return k >= 0 ? s.forces[k][0] : 0.0;
@@ -307,19 +321,27 @@ double CriticalForce(const PerturbationTarget& t, const StaticSolution& s) {
 
 void CheckTarget(const PerturbationBase& base, const PerturbationTarget& t) {
   const int n = static_cast<int>(base.scene.particles.size());
-  if (t.i < 0 || t.i >= n) throw std::invalid_argument("perturbation names particle " + std::to_string(t.i) + ", which does not exist");
+  if (t.i < 0 || t.i >= n)
+    throw std::invalid_argument("perturbation names particle " + std::to_string(t.i) +
+                                ", which does not exist");
   if (t.kind == PerturbationTarget::Kind::kParticleShift) {
-    if (base.scene.particles[t.i].fixed) throw std::invalid_argument("particle " + std::to_string(t.i) + " is fixed and cannot be shifted");
+    if (base.scene.particles[t.i].fixed)
+      throw std::invalid_argument("particle " + std::to_string(t.i) +
+                                  " is fixed and cannot be shifted");
     return;
   }
-  if (t.j < 0 || t.j >= n || t.j == t.i) throw std::invalid_argument("perturbation names contact (" + std::to_string(t.i) + ", " + std::to_string(t.j) + "), which does not exist");
+  if (t.j < 0 || t.j >= n || t.j == t.i)
+    throw std::invalid_argument("perturbation names contact (" + std::to_string(t.i) + ", " +
+                                std::to_string(t.j) + "), which does not exist");
 }
 
 }  // namespace
 
-PerturbationBase PreparePerturbations(const Scene& static_scene, const PerturbationOptions& options) {
+PerturbationBase PreparePerturbations(const Scene& static_scene,
+                                      const PerturbationOptions& options) {
   if (static_scene.forces.empty()) {
-    throw std::invalid_argument("the packing stores no static forces: run `unjam solve FILE -o FILE` first");
+    throw std::invalid_argument(
+        "the packing stores no static forces: run `unjam solve FILE -o FILE` first");
   }
   Validate(options);
   PerturbationBase base;
@@ -328,7 +350,8 @@ PerturbationBase PreparePerturbations(const Scene& static_scene, const Perturbat
   const ForcesByContact stored(static_scene.forces);
   base.forces.assign(base.contacts.size(), Eigen::Vector2d::Zero());
   for (std::size_t k = 0; k < base.contacts.size(); ++k) {
-    if (const ContactForce* f = stored.Find(base.contacts[k])) base.forces[k] = {f->normal, f->tangential};
+    if (const ContactForce* f = stored.Find(base.contacts[k]))
+      base.forces[k] = {f->normal, f->tangential};
   }
   const EquilibriumReport eq = CheckEquilibrium(base.scene, base.contacts, base.forces);
   base.mean_contact_force = eq.mean_contact_force;
@@ -378,7 +401,8 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
 
 // A perturbation decided before any solve: no force is measured (F_crit is NaN) and nothing
 // moves. `decided_by` is reported as its backend, `why` as its message.
-PerturbationResult DecidedWithoutSolving(const PerturbationBase& base, const std::string& decided_by, const std::string& why,
+PerturbationResult DecidedWithoutSolving(const PerturbationBase& base,
+                                         const std::string& decided_by, const std::string& why,
                                          PerturbationResult r, Clock::time_point start) {
   const std::size_t n = base.scene.particles.size();
   r.f_crit = std::nan("");
@@ -391,8 +415,8 @@ PerturbationResult DecidedWithoutSolving(const PerturbationBase& base, const std
   return r;
 }
 
-PerturbationResult Blocked(const PerturbationBase& base, const std::string& decided_by, const std::string& why,
-                           PerturbationResult r, Clock::time_point start) {
+PerturbationResult Blocked(const PerturbationBase& base, const std::string& decided_by,
+                           const std::string& why, PerturbationResult r, Clock::time_point start) {
   r.solve.status = SolveStatus::kNumericalFailure;
   r.resolved = false;
   r.status = "blocked";
@@ -421,16 +445,19 @@ bool SameContacts(const std::vector<Contact>& a, const std::vector<Contact>& b) 
 // The inertia LP's bound for a posed contact opening: continued from the unperturbed LP
 // (solved once per base) where the step has the unperturbed step's contacts, otherwise
 // solved from scratch.
-InertiaBound StepInertiaBound(const PerturbationBase& base, const StaticProblem& posed, const PerturbationOptions& options) {
+InertiaBound StepInertiaBound(const PerturbationBase& base, const StaticProblem& posed,
+                              const PerturbationOptions& options) {
   const ContactProblem& p = posed.assembled.problem;
-  if (IsUnloaded(p)) return {};  // fixed volume: zero forces balance it, and the shared LP is not this step's
+  if (IsUnloaded(p))
+    return {};  // fixed volume: zero forces balance it, and the shared LP is not this step's
   OpeningInertiaLp* shared = base.opening_inertia_lp.get();
   if (shared != nullptr) {
     std::call_once(shared->once, [&] {
       const StaticProblem unperturbed = PoseStaticProblem(base.scene, StepOptions(base, options));
       shared->contacts = ProblemContacts(unperturbed);
       shared->dofs = unperturbed.assembled.problem.NumDofs();
-      shared->lp = std::make_unique<HeldContactInertia>(unperturbed.assembled.problem, InertiaScales(base, unperturbed.assembled));
+      shared->lp = std::make_unique<HeldContactInertia>(unperturbed.assembled.problem,
+                                                        InertiaScales(base, unperturbed.assembled));
     });
     int held = -1;
     for (int k = 0; k < p.NumContacts(); ++k) {
@@ -438,7 +465,8 @@ InertiaBound StepInertiaBound(const PerturbationBase& base, const StaticProblem&
     }
     // The same step but for the held contact (at fixed volume the cell is frozen: another
     // step, and an unloaded one).
-    const bool same_step = p.NumDofs() == shared->dofs && SameContacts(ProblemContacts(posed), shared->contacts);
+    const bool same_step =
+        p.NumDofs() == shared->dofs && SameContacts(ProblemContacts(posed), shared->contacts);
     if (held >= 0 && same_step && shared->lp->ready()) return shared->lp->WithHeld(held);
   }
   return SmallestInertia(p, InertiaScales(base, posed.assembled));
@@ -446,11 +474,14 @@ InertiaBound StepInertiaBound(const PerturbationBase& base, const StaticProblem&
 
 // A step that no answer can end near rest: dynamic, decided by the inertia LP, whose bound
 // is reported as the inertia ratio (docs/perturbations.md, "Dynamic before solving").
-std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& base, const StaticProblem& posed,
-                                                       const PerturbationOptions& options, const PerturbationResult& r,
+std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& base,
+                                                       const StaticProblem& posed,
+                                                       const PerturbationOptions& options,
+                                                       const PerturbationResult& r,
                                                        Clock::time_point start) {
   const InertiaBound bound = StepInertiaBound(base, posed, options);
-  if (!bound.decided || bound.ratio <= kDynamicBoundFactor * options.max_inertia_ratio) return std::nullopt;
+  if (!bound.decided || bound.ratio <= kDynamicBoundFactor * options.max_inertia_ratio)
+    return std::nullopt;
   PerturbationResult d = r;
   d.solve.status = SolveStatus::kConverged;
   d.solve.iterations = bound.iterations;
@@ -458,16 +489,20 @@ std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& b
   d.status = "dynamic";
   d.inertia_ratio = bound.ratio;
   char why[200];
-  std::snprintf(why, sizeof why, "no impulses in the contact cones keep the largest inertial force below %.3g of its scale: dynamic, not solved",
+  std::snprintf(why, sizeof why,
+                "no impulses in the contact cones keep the largest inertial force below %.3g of "
+                "its scale: dynamic, not solved",
                 bound.ratio);
   return DecidedWithoutSolving(base, "inertia LP", why, std::move(d), start);
 }
 }  // namespace
 
-ContactProblem PosePerturbationProblem(const PerturbationBase& base, const PerturbationTarget& target,
+ContactProblem PosePerturbationProblem(const PerturbationBase& base,
+                                       const PerturbationTarget& target,
                                        const PerturbationOptions& options) {
   CheckTarget(base, target);
-  return PoseStaticProblem(PerturbedScene(base, target, options), StepOptions(base, options)).assembled.problem;
+  return PoseStaticProblem(PerturbedScene(base, target, options), StepOptions(base, options))
+      .assembled.problem;
 }
 
 namespace {
@@ -478,14 +513,17 @@ constexpr double kLinearityGapFactor = 10.0;
 constexpr double kLinearityMisfit = 0.05;
 constexpr double kLinearityForceChange = 1e-3;  // of the mean contact force
 
-double LinearityMisfit(const std::vector<Vec2>& d, const std::vector<Vec2>& d_scaled, double factor) {
+double LinearityMisfit(const std::vector<Vec2>& d, const std::vector<Vec2>& d_scaled,
+                       double factor) {
   double largest = 0.0, misfit = 0.0;
   for (std::size_t i = 0; i < d.size(); ++i) {
     largest = std::max(largest, d_scaled[i].norm());
     misfit = std::max(misfit, (d_scaled[i] - factor * d[i]).norm());
   }
   if (largest > 0.0) return misfit / largest;
-  return misfit == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();  // nothing moves at either gap: linear
+  return misfit == 0.0
+             ? 0.0
+             : std::numeric_limits<double>::infinity();  // nothing moves at either gap: linear
 }
 
 // The basis of a solution of the same base (another gap) for the contacts of `posed`, or
@@ -504,8 +542,8 @@ std::vector<std::uint8_t> BasisFor(const StaticProblem& posed, const StaticSolut
 }
 
 // What one solution of the step measures, into r (its target, origin and reference set).
-void Measure(const PerturbationBase& base, const PerturbationOptions& options, const StaticSolveOptions& solve,
-             const StaticSolution& s, PerturbationResult& r) {
+void Measure(const PerturbationBase& base, const PerturbationOptions& options,
+             const StaticSolveOptions& solve, const StaticSolution& s, PerturbationResult& r) {
   r.solve = s.report;
   r.f_crit = CriticalForce(r.target, s);
   r.displacement = s.displacement;  // the shifted particle's included: its shift
@@ -513,14 +551,17 @@ void Measure(const PerturbationBase& base, const PerturbationOptions& options, c
   r.cell_strain = s.cell_strain;
   r.force_changes = ForceChanges(base, s);
   r.penetration_depth = PenetrationDepth(base.scene, r.displacement, r.origin, r.axis);
-  if (PeriodicY(base.scene.cell.periodicity)) r.pressure_change = s.equilibrium.pressure - base.pressure;
+  if (PeriodicY(base.scene.cell.periodicity))
+    r.pressure_change = s.equilibrium.pressure - base.pressure;
   r.inertia_ratio = InertiaRatio(base, r, options.dt);
   r.inertial_force = InertialForce(base, r, options.gap, options.dt);
   r.equilibrium_residual = s.equilibrium.residual;
   r.quasi_static = r.inertia_ratio <= options.max_inertia_ratio;
   // The residual is relative to the solution's own force scale; a solution with runaway
   // forces (pushing into a rigid column) must not pass by inflating it.
-  const double scale_ratio = base.mean_contact_force > 0.0 ? s.equilibrium.mean_contact_force / base.mean_contact_force : 1.0;
+  const double scale_ratio = base.mean_contact_force > 0.0
+                                 ? s.equilibrium.mean_contact_force / base.mean_contact_force
+                                 : 1.0;
   const double absolute = r.solve.residual * std::max(1.0, scale_ratio);
   r.resolved = absolute <= solve.solver.tolerance * ResponseSize(r.displacement, options.gap);
   r.status = !r.resolved ? "not-converged" : !r.quasi_static ? "dynamic" : "ok";
@@ -529,8 +570,9 @@ void Measure(const PerturbationBase& base, const PerturbationOptions& options, c
 // Solves the posed step with solve.backend and measures the answer into r; where that
 // leaves the step unresolved, solves it once more with the fallback backend (if any) and
 // keeps that answer if it is resolved. The message keeps the first backend's account.
-StaticSolution SolveAndMeasure(const PerturbationBase& base, const Scene& perturbed, StaticProblem posed,
-                               const StaticSolveOptions& solve, const PerturbationOptions& options, PerturbationResult& r) {
+StaticSolution SolveAndMeasure(const PerturbationBase& base, const Scene& perturbed,
+                               StaticProblem posed, const StaticSolveOptions& solve,
+                               const PerturbationOptions& options, PerturbationResult& r) {
   const std::string fallback = PerturbationFallback(options, base.scene);
   std::optional<StaticProblem> spare;
   if (!fallback.empty()) spare = posed;
@@ -561,12 +603,14 @@ const RateBase& RateBaseOf(const PerturbationBase& base, const PerturbationOptio
 
 std::string PathAccount(const RatePathResult& path) {
   char text[200];
-  std::snprintf(text, sizeof text, "rate path: %s after %d events, %d turns%s%s", ToString(path.end), path.events, path.turns,
-                path.message.empty() ? "" : ", ", path.message.c_str());
+  std::snprintf(text, sizeof text, "rate path: %s after %d events, %d turns%s%s",
+                ToString(path.end), path.events, path.turns, path.message.empty() ? "" : ", ",
+                path.message.c_str());
   return text;
 }
 
-void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled, PerturbationResult& r);
+void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled,
+                    PerturbationResult& r);
 
 std::string FormatResidual(double residual) {
   char text[32];
@@ -575,29 +619,34 @@ std::string FormatResidual(double residual) {
 }
 
 // The step's solution on the path's final contact states, measured into r.
-void MeasureOnPattern(const PerturbationBase& base, const RateBase& rb, const RateTarget& rt, const RatePathResult& path,
-                      const PerturbationOptions& options, const StaticSolveOptions& solve, const Scene& perturbed,
-                      const StaticProblem& posed, const std::string& account, PerturbationResult& r) {
+void MeasureOnPattern(const PerturbationBase& base, const RateBase& rb, const RateTarget& rt,
+                      const RatePathResult& path, const PerturbationOptions& options,
+                      const StaticSolveOptions& solve, const Scene& perturbed,
+                      const StaticProblem& posed, const std::string& account,
+                      PerturbationResult& r) {
   SolveResult step = StepOnPattern(rb, rt, path, posed);
   step.report.iterations = path.events;
-  step.report.message = account + "; the step on its pattern: residual " + FormatResidual(step.report.residual);
+  step.report.message =
+      account + "; the step on its pattern: residual " + FormatResidual(step.report.residual);
   StaticSolution s = SolutionOf(perturbed, posed, step, options.dt);
   Measure(base, options, solve, s, r);
   const int closing = ContactClosedAt(posed, step.impulses, kLinearityGapFactor);
   if (r.status == "ok" && closing >= 0) {
-    const Contact& c = posed.contacts[static_cast<std::size_t>(posed.assembled.source_contact[static_cast<std::size_t>(closing)])];
+    const Contact& c = posed.contacts[static_cast<std::size_t>(
+        posed.assembled.source_contact[static_cast<std::size_t>(closing)])];
     r.linear = false;
     r.status = "nonlinear";
-    r.solve.message += "; at 10 xi the response closes the open contact (" + std::to_string(c.i) + ", " + std::to_string(c.j) + ")";
+    r.solve.message += "; at 10 xi the response closes the open contact (" + std::to_string(c.i) +
+                       ", " + std::to_string(c.j) + ")";
   }
 }
 
 // The small-gap check of a rate answer: the step at 10ξ solved on the same contact states.
 // Where that is no solution of the step (its residual above the tolerance), the response
 // at 10ξ is not 10 times this one: nonlinear.
-void CheckLinearityOnPattern(const PerturbationBase& base, const PerturbationTarget& target, const RateBase& rb,
-                             const RateTarget& rt, const RatePathResult& path, const PerturbationOptions& options,
-                             PerturbationResult& r) {
+void CheckLinearityOnPattern(const PerturbationBase& base, const PerturbationTarget& target,
+                             const RateBase& rb, const RateTarget& rt, const RatePathResult& path,
+                             const PerturbationOptions& options, PerturbationResult& r) {
   PerturbationOptions scaled = options;
   scaled.gap *= kLinearityGapFactor;
   scaled.max_inertia_ratio *= kLinearityGapFactor;  // a linear response's inertia grows with ξ
@@ -621,10 +670,13 @@ void CheckLinearityOnPattern(const PerturbationBase& base, const PerturbationTar
 // The perturbation solved as the rigid limit of stiff contacts (perturbation_rate.hpp):
 // its answer, or none where the path gives no definite one (`account` then says why, and
 // the step is solved by a backend).
-std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base, const PerturbationTarget& target,
-                                                const PerturbationOptions& options, const StaticSolveOptions& solve,
-                                                const Scene& perturbed, const StaticProblem& posed, PerturbationResult r,
-                                                Clock::time_point start, std::string& account) {
+std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base,
+                                                const PerturbationTarget& target,
+                                                const PerturbationOptions& options,
+                                                const StaticSolveOptions& solve,
+                                                const Scene& perturbed, const StaticProblem& posed,
+                                                PerturbationResult r, Clock::time_point start,
+                                                std::string& account) {
   if (base.rate == nullptr) return std::nullopt;
   const RateBase& rb = RateBaseOf(base, options);
   const RateTarget rt = PoseRateTarget(rb, target, options);
@@ -641,9 +693,11 @@ std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base, co
       d.solve.iterations = lp.iterations;
       d.resolved = true;
       d.status = "dynamic";
-      return DecidedWithoutSolving(base, "static LP", "no static network holds the packing with the perturbation's forces released (" +
-                                                          lp.message + "): dynamic, not solved",
-                                   std::move(d), start);
+      return DecidedWithoutSolving(
+          base, "static LP",
+          "no static network holds the packing with the perturbation's forces released (" +
+              lp.message + "): dynamic, not solved",
+          std::move(d), start);
     }
   }
   const RatePathResult path = FollowRatePath(rt.problem);
@@ -651,10 +705,12 @@ std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base, co
   if (path.end != RatePathEnd::kCollapse) return std::nullopt;
   MeasureOnPattern(base, rb, rt, path, options, solve, perturbed, posed, account, r);
   if (!r.resolved) {  // the path's pattern is no solution of the step: the step solver decides
-    account += "; its pattern is no solution of the step (residual " + FormatResidual(r.solve.residual) + ")";
+    account += "; its pattern is no solution of the step (residual " +
+               FormatResidual(r.solve.residual) + ")";
     return std::nullopt;
   }
-  if (r.status == "ok" && options.check_linearity) CheckLinearityOnPattern(base, target, rb, rt, path, options, r);
+  if (r.status == "ok" && options.check_linearity)
+    CheckLinearityOnPattern(base, target, rb, rt, path, options, r);
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
 }
@@ -664,7 +720,8 @@ std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base, co
 // from which newton resolves a frictionless response further than from that answer);
 // `answer`: this one's solution.
 PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationTarget& target,
-                               const PerturbationOptions& options, const StaticSolution* continued = nullptr,
+                               const PerturbationOptions& options,
+                               const StaticSolution* continued = nullptr,
                                StaticSolution* answer = nullptr) {
   const auto start = Clock::now();
   CheckTarget(base, target);
@@ -678,7 +735,8 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
   // solver makes of an infeasible step (runaway forces, or penetrations spread below its
   // tolerance). An opening under a pressure bath is never blocked: a uniform expansion
   // of the cell opens every contact (u_n = λ l·n > 0), so it needs no check.
-  const bool always_admissible = target.kind == PerturbationTarget::Kind::kContactOpening && options.cell == CellCondition::kFixedPressure &&
+  const bool always_admissible = target.kind == PerturbationTarget::Kind::kContactOpening &&
+                                 options.cell == CellCondition::kFixedPressure &&
                                  base.scene.effects.pressure_bath.has_value();
   StaticProblem posed = PoseStaticProblem(perturbed, solve);
   if (continued != nullptr) posed.assembled.problem.initial_basis = BasisFor(posed, *continued);
@@ -689,28 +747,33 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
   }
   if (!always_admissible) {
     const KinematicAdmissibility kinematics = CheckKinematicAdmissibility(posed.assembled.problem);
-    if (kinematics.decided && !kinematics.admissible) return Blocked(base, "kinematic LP", kinematics.message, std::move(r), start);
+    if (kinematics.decided && !kinematics.admissible)
+      return Blocked(base, "kinematic LP", kinematics.message, std::move(r), start);
   }
   // A shift's LP is the static state's with the shifted particle's balance dropped: the
   // stored forces satisfy it, so its bound is zero and it can decide nothing.
   if (options.dynamic_precheck && target.kind == PerturbationTarget::Kind::kContactOpening) {
-    if (auto dynamic = DynamicBeforeSolving(base, posed, options, r, start)) return std::move(*dynamic);
+    if (auto dynamic = DynamicBeforeSolving(base, posed, options, r, start))
+      return std::move(*dynamic);
   }
   std::string rate_account;
   if (PerturbationBackend(options, base.scene) == "rate" && continued == nullptr) {
-    if (auto answered = PerturbByRate(base, target, options, solve, perturbed, posed, r, start, rate_account)) {
+    if (auto answered =
+            PerturbByRate(base, target, options, solve, perturbed, posed, r, start, rate_account)) {
       return std::move(*answered);
     }
   }
   StaticSolution s = SolveAndMeasure(base, perturbed, std::move(posed), solve, options, r);
-  if (!rate_account.empty()) r.solve.message = rate_account + "; then " + r.solve.backend + ": " + r.solve.message;
+  if (!rate_account.empty())
+    r.solve.message = rate_account + "; then " + r.solve.backend + ": " + r.solve.message;
   if (answer != nullptr) *answer = std::move(s);
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
 }
 
 // Compares a quasi-static result r with the same perturbation at 10ξ (`scaled`).
-void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled, PerturbationResult& r) {
+void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scaled,
+                    PerturbationResult& r) {
   r.fcrit_10xi = scaled.f_crit;
   r.linearity_misfit = LinearityMisfit(r.displacement, scaled.displacement, kLinearityGapFactor);
   r.linear = scaled.quasi_static && r.linearity_misfit <= kLinearityMisfit &&
@@ -742,14 +805,17 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
     scaled.backend = r.solve.backend;
     scaled.fallback = "none";
   }
-  const PerturbationResult check = PerturbOnce(base, target, scaled, options.check_by_continuation ? &answer : nullptr);
+  const PerturbationResult check =
+      PerturbOnce(base, target, scaled, options.check_by_continuation ? &answer : nullptr);
   if (!check.resolved) {  // no verdict: the result cannot be certified
     r.resolved = false;
     r.status = "not-converged";
-    r.solve.message += (r.solve.message.empty() ? "" : "; ") + std::string("the 10 xi check did not converge: ") + check.solve.message;
+    r.solve.message += (r.solve.message.empty() ? "" : "; ") +
+                       std::string("the 10 xi check did not converge: ") + check.solve.message;
   } else {
     JudgeLinearity(base, check, r);
-    r.solve.message += (r.solve.message.empty() ? "" : "; ") + std::string("10 xi check: ") + check.solve.message;
+    r.solve.message +=
+        (r.solve.message.empty() ? "" : "; ") + std::string("10 xi check: ") + check.solve.message;
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
@@ -791,7 +857,8 @@ namespace {
 // One free particle per bin of about one mean diameter across the width: the one that
 // `better` prefers (highest or lowest centre).
 template <class Better>
-std::vector<PerturbationTarget> PerBin(const PerturbationBase& base, Vec2 direction, Better better) {
+std::vector<PerturbationTarget> PerBin(const PerturbationBase& base, Vec2 direction,
+                                       Better better) {
   const Scene& s = base.scene;
   if (!s.effects.gravity || !PeriodicX(s.cell.periodicity)) {
     throw std::invalid_argument("--top and --bottom need a gravity packing periodic in x");
@@ -826,10 +893,13 @@ std::vector<PerturbationTarget> TopTargets(const PerturbationBase& base) {
 PerturbationTarget ParticleShift(const PerturbationBase& base, int particle, Vec2 direction) {
   const int n = static_cast<int>(base.scene.particles.size());
   if (particle < 0 || particle >= n) {
-    throw std::invalid_argument("particle " + std::to_string(particle) + " does not exist: the packing has " + std::to_string(n) +
+    throw std::invalid_argument("particle " + std::to_string(particle) +
+                                " does not exist: the packing has " + std::to_string(n) +
                                 " particles (0.." + std::to_string(n - 1) + ")");
   }
-  if (base.scene.particles[particle].fixed) throw std::invalid_argument("particle " + std::to_string(particle) + " is fixed and cannot be shifted");
+  if (base.scene.particles[particle].fixed)
+    throw std::invalid_argument("particle " + std::to_string(particle) +
+                                " is fixed and cannot be shifted");
   PerturbationTarget t;
   t.kind = PerturbationTarget::Kind::kParticleShift;
   t.i = particle;
@@ -837,7 +907,9 @@ PerturbationTarget ParticleShift(const PerturbationBase& base, int particle, Vec
   return t;
 }
 
-double EffectiveWeightOf(const PerturbationBase& base, int p) { return EffectiveWeight(p, base.contacts, base.forces); }
+double EffectiveWeightOf(const PerturbationBase& base, int p) {
+  return EffectiveWeight(p, base.contacts, base.forces);
+}
 
 std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base) {
   return PerBin(base, Vec2(0.0, 1.0), [](double y, double best) { return y < best; });
@@ -847,7 +919,9 @@ void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarg
                 const PerturbationOptions& options, const PerturbSchedule& schedule,
                 const std::function<void(int, const PerturbationResult&)>& on_result) {
   const int n = static_cast<int>(targets.size());
-  auto may_start = [&] { return !schedule.start_before || std::chrono::steady_clock::now() < *schedule.start_before; };
+  auto may_start = [&] {
+    return !schedule.start_before || std::chrono::steady_clock::now() < *schedule.start_before;
+  };
   if (schedule.threads <= 1) {  // in order, here, each result reported as soon as it exists
     for (int k = 0; k < n && may_start(); ++k) on_result(k, Perturb(base, targets[k], options));
     return;
@@ -893,8 +967,12 @@ void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarg
   for (int reported = 0;; ++reported) {
     std::unique_lock<std::mutex> lock(mutex);
     // Target order reports target `reported` next; as finished, the oldest finished one.
-    auto next_ready = [&] { return schedule.as_finished ? !finished.empty() : results[reported].has_value(); };
-    ready.wait(lock, [&] { return failure || (closed && reported == started) || (reported < n && next_ready()); });
+    auto next_ready = [&] {
+      return schedule.as_finished ? !finished.empty() : results[reported].has_value();
+    };
+    ready.wait(lock, [&] {
+      return failure || (closed && reported == started) || (reported < n && next_ready());
+    });
     if (failure || !(reported < n && next_ready())) break;
     const int k = schedule.as_finished ? finished.front() : reported;
     if (schedule.as_finished) finished.pop_front();

@@ -22,24 +22,27 @@ std::vector<int> ClosedIndexOf(const RateBase& rb, const StaticProblem& posed) {
   std::map<Key, int> closed;
   for (std::size_t c = 0; c < rb.closed.size(); ++c) {
     const int k = rb.closed[c];
-    closed[KeyOf(rb.posed.contacts[static_cast<std::size_t>(rb.posed.assembled.source_contact[static_cast<std::size_t>(k)])])] =
-        static_cast<int>(c);
+    closed[KeyOf(rb.posed.contacts[static_cast<std::size_t>(
+        rb.posed.assembled.source_contact[static_cast<std::size_t>(k)])])] = static_cast<int>(c);
   }
   const ContactProblem& p = posed.assembled.problem;
   std::vector<int> out(static_cast<std::size_t>(p.NumContacts()), -1);
   for (int k = 0; k < p.NumContacts(); ++k) {
-    const auto it = closed.find(KeyOf(posed.contacts[static_cast<std::size_t>(posed.assembled.source_contact[static_cast<std::size_t>(k)])]));
+    const auto it = closed.find(KeyOf(posed.contacts[static_cast<std::size_t>(
+        posed.assembled.source_contact[static_cast<std::size_t>(k)])]));
     if (it != closed.end()) out[static_cast<std::size_t>(k)] = it->second;
   }
   return out;
 }
 
-Eigen::SparseMatrix<double> RowsOf(const Eigen::SparseMatrix<double>& h, const std::vector<int>& rows) {
+Eigen::SparseMatrix<double> RowsOf(const Eigen::SparseMatrix<double>& h,
+                                   const std::vector<int>& rows) {
   using Triplet = Eigen::Triplet<double>;
   std::vector<Triplet> t;
   const Eigen::SparseMatrix<double, Eigen::RowMajor> by_row = h;
   for (std::size_t r = 0; r < rows.size(); ++r) {
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(by_row, rows[r]); it; ++it) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(by_row, rows[r]); it;
+         ++it) {
       t.emplace_back(static_cast<int>(r), static_cast<int>(it.col()), it.value());
     }
   }
@@ -65,7 +68,9 @@ RateProblem ProblemOver(const RateBase& rb, Eigen::MatrixXd basis) {
   return out;
 }
 
-int BodyColumn(const ContactProblem& p, int body, int component) { return body * p.DofsPerBody() + component; }
+int BodyColumn(const ContactProblem& p, int body, int component) {
+  return body * p.DofsPerBody() + component;
+}
 
 }  // namespace
 
@@ -77,7 +82,8 @@ RateBase PrepareRateBase(const PerturbationBase& base, const StaticSolveOptions&
   rb.closed_index.assign(static_cast<std::size_t>(p.NumContacts()), -1);
   std::vector<int> rows;
   for (int k = 0; k < p.NumContacts(); ++k) {
-    const Contact& c = rb.posed.contacts[static_cast<std::size_t>(rb.posed.assembled.source_contact[static_cast<std::size_t>(k)])];
+    const Contact& c = rb.posed.contacts[static_cast<std::size_t>(
+        rb.posed.assembled.source_contact[static_cast<std::size_t>(k)])];
     const bool loaded = p.initial_guess.size() > 0 && p.initial_guess[k * stride] != 0.0;
     if (!(std::abs(c.gap) <= step.closed_gap_tolerance) && !loaded) continue;
     rb.closed_index[static_cast<std::size_t>(k)] = static_cast<int>(rb.closed.size());
@@ -87,13 +93,15 @@ RateBase PrepareRateBase(const PerturbationBase& base, const StaticSolveOptions&
   rb.jacobian = RowsOf(AssembleJacobian(p), rows);
   rb.impulses.resize(static_cast<Eigen::Index>(rows.size()));
   for (std::size_t r = 0; r < rows.size(); ++r) {
-    rb.impulses[static_cast<Eigen::Index>(r)] = p.initial_guess.size() > 0 ? p.initial_guess[rows[r]] : 0.0;
+    rb.impulses[static_cast<Eigen::Index>(r)] =
+        p.initial_guess.size() > 0 ? p.initial_guess[rows[r]] : 0.0;
   }
   rb.stresses = ComputeSelfStresses(rb.jacobian);
   return rb;
 }
 
-RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& t, const PerturbationOptions& o) {
+RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& t,
+                          const PerturbationOptions& o) {
   RateTarget out;
   const ContactProblem& p = rb.posed.assembled.problem;
   const int stride = rb.UnknownsPerContact();
@@ -121,7 +129,8 @@ RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& t, const
   }
   int held = -1;
   for (std::size_t c = 0; c < rb.closed.size(); ++c) {
-    const Contact& k = rb.posed.contacts[static_cast<std::size_t>(rb.posed.assembled.source_contact[static_cast<std::size_t>(rb.closed[c])])];
+    const Contact& k = rb.posed.contacts[static_cast<std::size_t>(
+        rb.posed.assembled.source_contact[static_cast<std::size_t>(rb.closed[c])])];
     if (k.i == t.i && k.j == t.j && k.image == t.image) held = static_cast<int>(c);
   }
   if (held < 0) {
@@ -143,8 +152,8 @@ namespace {
 
 // The step's solution with the contacts in `states` (closed-contact order), from the
 // forces `forces` (closed-contact unknowns) and the impulses that move the grains.
-SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>& closed, const Eigen::VectorXd& forces,
-                          const std::vector<ContactState>& states) {
+SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>& closed,
+                          const Eigen::VectorXd& forces, const std::vector<ContactState>& states) {
   using Triplet = Eigen::Triplet<double>;
   const ContactProblem& p = perturbed.assembled.problem;
   const int stride = p.UnknownsPerContact();
@@ -154,7 +163,7 @@ SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>
   // The impulses that move the grains: one column per force component the contact's state
   // leaves free (both while it sticks, the normal one, with the friction on the edge, while
   // it slides; the held contact's normal one), and one velocity row each.
-  std::vector<Triplet> e;        // contact unknowns × force components
+  std::vector<Triplet> e;  // contact unknowns × force components
   std::vector<int> velocity_rows;
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int c = closed[static_cast<std::size_t>(k)];
@@ -164,7 +173,8 @@ SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>
     if (p.contacts[static_cast<std::size_t>(k)].kind == ConstraintKind::kBilateral) {
       // The held contact: its friction is released to zero exactly (the path's force
       // there is zero up to round-off).
-      if (stride == 2 && p.contacts[static_cast<std::size_t>(k)].mu == 0.0) impulses[k * stride + 1] = 0.0;
+      if (stride == 2 && p.contacts[static_cast<std::size_t>(k)].mu == 0.0)
+        impulses[k * stride + 1] = 0.0;
       e.emplace_back(k * stride, col, 1.0);
       velocity_rows.push_back(k * stride);
       continue;
@@ -183,7 +193,8 @@ SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>
     }
     const double sigma = s == ContactState::kSlidePositive ? 1.0 : -1.0;
     // On the edge exactly: the path's forces drift off it by round-off over many events.
-    impulses[k * stride + 1] = -sigma * p.contacts[static_cast<std::size_t>(k)].mu * impulses[k * stride];
+    impulses[k * stride + 1] =
+        -sigma * p.contacts[static_cast<std::size_t>(k)].mu * impulses[k * stride];
     e.emplace_back(k * stride, col, 1.0);
     e.emplace_back(k * stride + 1, col, -sigma * p.contacts[static_cast<std::size_t>(k)].mu);
     velocity_rows.push_back(k * stride);
@@ -201,7 +212,8 @@ SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>
   std::vector<Triplet> a;
   for (int d = 0; d < dofs; ++d) a.emplace_back(d, d, 1.0 / inv_mass[d]);
   for (int col = 0; col < hte.outerSize(); ++col) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(hte, col); it; ++it) a.emplace_back(static_cast<int>(it.row()), dofs + col, -it.value());
+    for (Eigen::SparseMatrix<double>::InnerIterator it(hte, col); it; ++it)
+      a.emplace_back(static_cast<int>(it.row()), dofs + col, -it.value());
   }
   const Eigen::SparseMatrix<double, Eigen::RowMajor> h_rows = h;
   Eigen::VectorXd rhs(dofs + comps);
@@ -211,7 +223,9 @@ SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>
   for (int d = 0; d < dofs; ++d) mass_scale = std::max(mass_scale, 1.0 / inv_mass[d]);
   const double regularisation = 1e-14 * mass_scale;
   for (int r = 0; r < comps; ++r) {
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(h_rows, velocity_rows[static_cast<std::size_t>(r)]); it; ++it) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(
+             h_rows, velocity_rows[static_cast<std::size_t>(r)]);
+         it; ++it) {
       a.emplace_back(dofs + r, static_cast<int>(it.col()), it.value());
     }
     a.emplace_back(dofs + r, dofs + r, -regularisation);
@@ -251,13 +265,14 @@ SolveResult SolveOnStates(const StaticProblem& perturbed, const std::vector<int>
 // contradict: a contact left at the edge of its cone, or with no force, by the path is
 // pushed out of it, an open one closes, a sliding one turns back. Each is given the state
 // its O(ξ) motion asks for; returns whether any changed.
-bool CorrectStates(const StaticProblem& perturbed, const std::vector<int>& closed, const SolveResult& r,
-                   std::vector<ContactState>& states) {
+bool CorrectStates(const StaticProblem& perturbed, const std::vector<int>& closed,
+                   const SolveResult& r, std::vector<ContactState>& states) {
   const ContactProblem& p = perturbed.assembled.problem;
   const int stride = p.UnknownsPerContact();
   const Eigen::VectorXd u = PosedContactVelocity(p, r.impulses);
   double scale = 0.0;
-  for (int k = 0; k < p.NumContacts(); ++k) scale = std::max(scale, std::abs(r.impulses[stride * k]));
+  for (int k = 0; k < p.NumContacts(); ++k)
+    scale = std::max(scale, std::abs(r.impulses[stride * k]));
   const double tol = 1e-15 * std::max(scale, 1e-300);
   // A slip this small next to the response's largest contact velocity is none: the contact
   // sits on the edge of its cone without turning back.
@@ -265,7 +280,8 @@ bool CorrectStates(const StaticProblem& perturbed, const std::vector<int>& close
   bool changed = false;
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int c = closed[static_cast<std::size_t>(k)];
-    if (c < 0 || p.contacts[static_cast<std::size_t>(k)].kind == ConstraintKind::kBilateral) continue;
+    if (c < 0 || p.contacts[static_cast<std::size_t>(k)].kind == ConstraintKind::kBilateral)
+      continue;
     ContactState& s = states[static_cast<std::size_t>(c)];
     const double mu = p.contacts[static_cast<std::size_t>(k)].mu;
     const double rn = r.impulses[stride * k], rt = stride == 2 ? r.impulses[2 * k + 1] : 0.0;
@@ -294,20 +310,26 @@ SolveResult StepOnPattern(const RateBase& rb, const RateTarget& rt, const RatePa
   const Eigen::VectorXd forces = rb.impulses + rt.problem.basis * path.alpha;
   std::vector<ContactState> states = path.states;
   SolveResult out = SolveOnStates(perturbed, closed, forces, states);
-  for (int round = 0; round < 20 && out.report.converged() && CorrectStates(perturbed, closed, out, states); ++round) {
+  for (int round = 0;
+       round < 20 && out.report.converged() && CorrectStates(perturbed, closed, out, states);
+       ++round) {
     out = SolveOnStates(perturbed, closed, forces, states);
   }
   return out;
 }
 
-int ContactClosedAt(const StaticProblem& perturbed, const Eigen::VectorXd& impulses, double factor) {
+int ContactClosedAt(const StaticProblem& perturbed, const Eigen::VectorXd& impulses,
+                    double factor) {
   const ContactProblem& p = perturbed.assembled.problem;
   const Eigen::VectorXd u = PosedContactVelocity(p, impulses);
   const int stride = p.UnknownsPerContact();
   for (int k = 0; k < p.NumContacts(); ++k) {
     const ProblemContact& c = p.contacts[static_cast<std::size_t>(k)];
-    const Contact& geometry = perturbed.contacts[static_cast<std::size_t>(perturbed.assembled.source_contact[static_cast<std::size_t>(k)])];
-    if (c.kind != ConstraintKind::kUnilateral || !(geometry.gap > 0.0) || impulses[k * stride] != 0.0) continue;
+    const Contact& geometry = perturbed.contacts[static_cast<std::size_t>(
+        perturbed.assembled.source_contact[static_cast<std::size_t>(k)])];
+    if (c.kind != ConstraintKind::kUnilateral || !(geometry.gap > 0.0) ||
+        impulses[k * stride] != 0.0)
+      continue;
     // ũ_n = u_n − target, target = −gap/Δt: at `factor` times the motion the gap left is
     // gap + factor Δt u_n.
     const double un = u[k * stride] + c.target_velocity;

@@ -19,11 +19,11 @@ namespace unjam {
 // The unperturbed step of a base in the rate problem's coordinates: computed once per
 // base (a sparse QR of the Jacobian), shared by all its perturbations.
 struct RateBase {
-  StaticProblem posed;                  // the step from rest, contacts within the margin
-  std::vector<int> closed;              // the problem contacts taken as closed, in problem order
-  std::vector<int> closed_index;        // per problem contact: its index in `closed`, or −1
-  Eigen::SparseMatrix<double> jacobian; // H of the closed contacts
-  Eigen::VectorXd impulses;             // their static impulses
+  StaticProblem posed;                   // the step from rest, contacts within the margin
+  std::vector<int> closed;               // the problem contacts taken as closed, in problem order
+  std::vector<int> closed_index;         // per problem contact: its index in `closed`, or −1
+  Eigen::SparseMatrix<double> jacobian;  // H of the closed contacts
+  Eigen::VectorXd impulses;              // their static impulses
   SelfStressBasis stresses;
   int UnknownsPerContact() const { return posed.assembled.problem.UnknownsPerContact(); }
 };
@@ -35,10 +35,11 @@ struct RateTarget {
   RateProblem problem;
   Eigen::VectorXd critical;
   double critical_offset = 0.0;
-  std::string refused;                  // why the target has no rate problem (empty: it has one)
+  std::string refused;  // why the target has no rate problem (empty: it has one)
 };
 
-RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& target, const PerturbationOptions& options);
+RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& target,
+                          const PerturbationOptions& options);
 
 // The solution of the perturbed step (`perturbed`, as PosePerturbationProblem poses it) on
 // the path's contact states: the path's forces plus the impulses that accelerate the grains

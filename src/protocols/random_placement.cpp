@@ -81,7 +81,8 @@ void PlaceWithoutOverlap(Scene& scene, const std::vector<double>& radii, double 
       scene.particles.push_back(p);
       placed = true;
     }
-    if (!placed) throw std::invalid_argument("could not place every disk: lower the initial packing fraction");
+    if (!placed)
+      throw std::invalid_argument("could not place every disk: lower the initial packing fraction");
   }
 }
 

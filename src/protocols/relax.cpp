@@ -34,14 +34,16 @@ double MeanSpeed(const Scene& scene) {
   }
   double mean = free > 0 ? sum / free : 0.0;
   if (scene.effects.pressure_bath) {
-    mean = std::max(mean, std::abs(scene.effects.pressure_bath->strain_rate) * scene.cell.size.maxCoeff());
+    mean = std::max(
+        mean, std::abs(scene.effects.pressure_bath->strain_rate) * scene.cell.size.maxCoeff());
   }
   return mean;
 }
 
 // The projection by default: the LP is slow at N ~ 1e3 (20-100 s at N = 4000), and a later
 // attempt is cheaper. The LP (RelaxOptions::linear_program) is the last resort.
-AdmissibleForces Admissible(const EquilibriumSystem& system, const std::vector<ContactForce>& reference,
+AdmissibleForces Admissible(const EquilibriumSystem& system,
+                            const std::vector<ContactForce>& reference,
                             AdmissibleMethod method = AdmissibleMethod::kProjection) {
   AdmissibleOptions options;
   options.method = method;
@@ -53,7 +55,8 @@ AdmissibleForces Admissible(const EquilibriumSystem& system, const std::vector<C
 // 20 active-set rounds) and fails when the reference is far from every network; the LP
 // decides whether one exists (N = 4000, mu = 1: docs/performance.md).
 AdmissibleForces OrLinearProgram(AdmissibleForces found, const EquilibriumSystem& system,
-                                 const std::vector<ContactForce>& reference, const RelaxOptions& o) {
+                                 const std::vector<ContactForce>& reference,
+                                 const RelaxOptions& o) {
   if (found.status == AdmissibleStatus::kAdmissible || !o.linear_program) return found;
   return Admissible(system, reference, AdmissibleMethod::kLinearProgram);
 }
@@ -72,12 +75,13 @@ StaticSolveOptions StaticOptions(const RelaxOptions& o, int max_iterations) {
 
 // Step 3b: close the carrying contacts, and any contact that overlaps (also one that the
 // closure itself made overlap: up to three rounds).
-bool CloseCarryingContacts(Scene& state, const EquilibriumSystem& system, const Eigen::VectorXd& forces,
-                           double tolerance, RelaxReport& report) {
+bool CloseCarryingContacts(Scene& state, const EquilibriumSystem& system,
+                           const Eigen::VectorXd& forces, double tolerance, RelaxReport& report) {
   std::vector<ContactKey> keys;
   for (std::size_t k = 0; k < system.contacts.size(); ++k) {
     const Contact& c = system.contacts[k];
-    if (forces[system.UnknownsPerContact() * k] > 0.0 || c.gap < 0.0) keys.push_back({c.i, c.j, c.image});
+    if (forces[system.UnknownsPerContact() * k] > 0.0 || c.gap < 0.0)
+      keys.push_back({c.i, c.j, c.image});
   }
   for (int round = 0; round < 3; ++round) {
     const ClosureReport closure = CloseContacts(state, keys);
@@ -100,7 +104,8 @@ bool StaticCheck(const Scene& state, const RelaxOptions& o, RelaxReport& report)
   const StaticSolution& s = report.final_check;
   bool ok = s.report.converged() && s.equilibrium.residual <= o.equilibrium_tolerance;
   if (state.effects.pressure_bath) {
-    report.pressure_mismatch = std::abs(s.equilibrium.pressure / state.effects.pressure_bath->pressure - 1.0);
+    report.pressure_mismatch =
+        std::abs(s.equilibrium.pressure / state.effects.pressure_bath->pressure - 1.0);
     ok = ok && report.pressure_mismatch <= o.pressure_tolerance;
   }
   if (!ok) report.check_message = "the static solve of the certified state did not pass";
@@ -108,7 +113,8 @@ bool StaticCheck(const Scene& state, const RelaxOptions& o, RelaxReport& report)
 }
 
 // Step 3 on `state` (a copy, at rest), starting from the last step's forces.
-bool Certify(Scene& state, const std::vector<ContactForce>& reference, const RelaxOptions& o, RelaxReport& report) {
+bool Certify(Scene& state, const std::vector<ContactForce>& reference, const RelaxOptions& o,
+             RelaxReport& report) {
   report.check_message.clear();
   EquilibriumSystemOptions near;
   near.closed_gap_tolerance = o.closure_gap;
@@ -122,22 +128,26 @@ bool Certify(Scene& state, const std::vector<ContactForce>& reference, const Rel
     refined = RefineStaticForces(state, reference, o).forces;
     best = &refined;
     report.certificate = Admissible(loose, refined);
-    if (report.certificate.status != AdmissibleStatus::kAdmissible) report.certificate.message += " (nor near the refined ones)";
+    if (report.certificate.status != AdmissibleStatus::kAdmissible)
+      report.certificate.message += " (nor near the refined ones)";
   }
   report.certificate = OrLinearProgram(std::move(report.certificate), loose, *best, o);
   if (report.certificate.status != AdmissibleStatus::kAdmissible) {
     report.check_message = report.certificate.message;
     return false;
   }
-  if (!CloseCarryingContacts(state, loose, report.certificate.forces, o.closed_gap_tolerance, report)) {
+  if (!CloseCarryingContacts(state, loose, report.certificate.forces, o.closed_gap_tolerance,
+                             report)) {
     report.check_message = "contact closure failed";
     return false;
   }
   EquilibriumSystemOptions closed;
   closed.closed_gap_tolerance = o.closed_gap_tolerance;
   const EquilibriumSystem system = BuildEquilibriumSystem(state, closed);
-  const std::vector<ContactForce> before_closure = ToContactForces(loose, report.certificate.forces);
-  report.certificate = OrLinearProgram(Admissible(system, before_closure), system, before_closure, o);
+  const std::vector<ContactForce> before_closure =
+      ToContactForces(loose, report.certificate.forces);
+  report.certificate =
+      OrLinearProgram(Admissible(system, before_closure), system, before_closure, o);
   if (report.certificate.status != AdmissibleStatus::kAdmissible) {
     report.check_message = "after contact closure: " + report.certificate.message;
     return false;
@@ -148,7 +158,8 @@ bool Certify(Scene& state, const std::vector<ContactForce>& reference, const Rel
 
 }  // namespace
 
-Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce>& reference, const RelaxOptions& o) {
+Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce>& reference,
+                              const RelaxOptions& o) {
   Refinement out;
   Scene start = state;
   start.forces = reference;
@@ -198,7 +209,8 @@ RelaxReport RelaxToStatic(Simulation& sim, const RelaxOptions& o, RelaxReport re
         sim.mutable_scene() = std::move(state);
         break;
       }
-      report.next_attempt = report.steps + std::max(o.window, static_cast<int>(o.retry_fraction * report.steps));
+      report.next_attempt =
+          report.steps + std::max(o.window, static_cast<int>(o.retry_fraction * report.steps));
     }
     if (o.on_checkpoint && o.checkpoint_interval > 0 && report.steps % o.checkpoint_interval == 0) {
       o.on_checkpoint(sim, report);

@@ -34,7 +34,8 @@ int BoxOf(const GridSpec& g, Vec2 p) {
 std::vector<double> BinMeans(const std::vector<double>& r, const std::vector<double>& v,
                              const ResponseLayout& layout) {
   std::vector<double> out;
-  for (const LogBin& b : LogBinned(r, v, layout.profile_min, layout.profile_max, layout.bins_per_decade)) {
+  for (const LogBin& b :
+       LogBinned(r, v, layout.profile_min, layout.profile_max, layout.bins_per_decade)) {
     out.push_back(b.count > 0 ? b.mean : kNaN);
   }
   return out;
@@ -56,7 +57,9 @@ void ReduceDisplacements(const PerturbationBase& base, const PerturbationResult&
     const bool shifted = result.target.kind == PerturbationTarget::Kind::kParticleShift &&
                          static_cast<int>(i) == result.target.i;
     if (shifted) continue;
-    const Vec2 rel = ToFrame(result.axis, MinimumImage(base.scene.cell, base.scene.particles[i].position - result.origin));
+    const Vec2 rel =
+        ToFrame(result.axis,
+                MinimumImage(base.scene.cell, base.scene.particles[i].position - result.origin));
     const Vec2 d = ToFrame(result.axis, result.displacement[i]) / layout.gap;
     r.push_back(rel.norm());
     magnitude.push_back(d.norm());
@@ -81,9 +84,11 @@ void ReduceForces(const PerturbationBase& base, const PerturbationResult& result
       change.push_back(std::abs(dn));
     }
     if (dn == 0.0 && dt == 0.0) continue;
-    const Vec2 start = MinimumImage(base.scene.cell, base.scene.particles[c.i].position - result.origin);
+    const Vec2 start =
+        MinimumImage(base.scene.cell, base.scene.particles[c.i].position - result.origin);
     const Vec2 force = dn * c.normal + dt * Perp(c.normal);
-    segments.push_back({ToFrame(result.axis, start), ToFrame(result.axis, c.branch), ToFrame(result.axis, force)});
+    segments.push_back(
+        {ToFrame(result.axis, start), ToFrame(result.axis, c.branch), ToFrame(result.axis, force)});
   }
   out.force_profile = BinMeans(r, change, layout);
   const StressGrid grid = CoarseGrainedStress(layout.stress, segments);
@@ -97,7 +102,8 @@ void ReduceForces(const PerturbationBase& base, const PerturbationResult& result
 // particles in the bin.
 std::vector<LogBin> AverageProfiles(const std::vector<const std::vector<double>*>& profiles,
                                     const ResponseLayout& layout) {
-  std::vector<LogBin> bins = LogBinned({}, {}, layout.profile_min, layout.profile_max, layout.bins_per_decade);
+  std::vector<LogBin> bins =
+      LogBinned({}, {}, layout.profile_min, layout.profile_max, layout.bins_per_decade);
   for (std::size_t b = 0; b < bins.size(); ++b) {
     std::vector<double> samples;
     for (const std::vector<double>* p : profiles) {
@@ -113,7 +119,8 @@ std::vector<LogBin> AverageProfiles(const std::vector<const std::vector<double>*
 }
 
 // Error of the ratio of two means of paired samples: the standard error of a − R b over ⟨b⟩.
-double RatioError(const std::vector<double>& a, const std::vector<double>& b, double ratio, double mean_b) {
+double RatioError(const std::vector<double>& a, const std::vector<double>& b, double ratio,
+                  double mean_b) {
   std::vector<double> z(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) z[k] = a[k] - ratio * b[k];
   return mean_b != 0.0 ? MeanWithError(z).error / std::abs(mean_b) : kNaN;
@@ -127,7 +134,8 @@ Histogram HistogramOf(const std::vector<double>& samples, double scale, int bins
     top = std::max(top, s / scale);
   }
   const double low = std::min(0.0, *std::min_element(scaled.begin(), scaled.end()));
-  return MakeHistogram(scaled, low, std::nextafter(top, std::numeric_limits<double>::infinity()), bins);
+  return MakeHistogram(scaled, low, std::nextafter(top, std::numeric_limits<double>::infinity()),
+                       bins);
 }
 
 void SummarizeFields(const std::vector<const ReducedResponse*>& used, const ResponseLayout& layout,
@@ -148,7 +156,8 @@ void SummarizeFields(const std::vector<const ReducedResponse*>& used, const Resp
   for (int b = 0; b < stress_boxes; ++b) {
     StressBox& box = out.stress[b];
     for (const ReducedResponse* r : used) {
-      box.mean += Eigen::Matrix2d{{r->stress[3 * b], r->stress[3 * b + 1]}, {r->stress[3 * b + 1], r->stress[3 * b + 2]}};
+      box.mean += Eigen::Matrix2d{{r->stress[3 * b], r->stress[3 * b + 1]},
+                                  {r->stress[3 * b + 1], r->stress[3 * b + 2]}};
     }
     if (!used.empty()) box.mean /= static_cast<double>(used.size());
     box.center = layout.stress.BoxCenter(b);
@@ -161,7 +170,8 @@ void SummarizeFields(const std::vector<const ReducedResponse*>& used, const Resp
 
 }  // namespace
 
-ResponseLayout MakeLayout(const PerturbationBase& base, const EnsembleOptions& options, double gap) {
+ResponseLayout MakeLayout(const PerturbationBase& base, const EnsembleOptions& options,
+                          double gap) {
   ResponseLayout layout;
   layout.gap = gap;
   const Cell& cell = base.scene.cell;
@@ -174,7 +184,8 @@ ResponseLayout MakeLayout(const PerturbationBase& base, const EnsembleOptions& o
   layout.field = CenteredGrid(layout.window, options.field_box);
   layout.stress = CenteredGrid(layout.window, options.stress_box);
   layout.mean_contact_force = base.mean_contact_force;
-  if (base.scene.effects.pressure_bath) layout.f0 = 2.0 * base.mean_radius * base.scene.effects.pressure_bath->pressure;
+  if (base.scene.effects.pressure_bath)
+    layout.f0 = 2.0 * base.mean_radius * base.scene.effects.pressure_bath->pressure;
   return layout;
 }
 

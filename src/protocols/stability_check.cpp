@@ -23,7 +23,9 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 bool AllFinite(const Eigen::VectorXd& v) { return v.size() == 0 || v.allFinite(); }
 
 bool SameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  return a.size() == b.size() && (a.size() == 0 || std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0);
+  return a.size() == b.size() &&
+         (a.size() == 0 || std::memcmp(a.data(), b.data(),
+                                       sizeof(double) * static_cast<std::size_t>(a.size())) == 0);
 }
 
 struct Solved {
@@ -66,7 +68,8 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   return out;
 }
 
-Solved SolveStored(const DelassusProblem& problem, const std::string& backend, const SolverOptions& solver) {
+Solved SolveStored(const DelassusProblem& problem, const std::string& backend,
+                   const SolverOptions& solver) {
   const StoredSolution s = SolveStoredProblem(problem, backend, solver);
   Solved out;
   out.impulses = s.impulses;
@@ -77,21 +80,24 @@ Solved SolveStored(const DelassusProblem& problem, const std::string& backend, c
 }
 
 Solved SolveCase(const StabilityCase& c, const std::string& backend, const SolverOptions& solver) {
-  if (const Scene* scene = std::get_if<Scene>(&c.problem)) return SolveScene(*scene, backend, solver);
+  if (const Scene* scene = std::get_if<Scene>(&c.problem))
+    return SolveScene(*scene, backend, solver);
   return SolveStored(std::get<DelassusProblem>(c.problem), backend, solver);
 }
 
 bool AtRest(const Scene& s) {
   if (!s.effects.prescribed_motion.empty() || !s.effects.prescribed_gaps.empty()) return false;
   if (s.effects.pressure_bath && s.effects.pressure_bath->strain_rate != 0.0) return false;
-  return std::all_of(s.particles.begin(), s.particles.end(),
-                     [](const Particle& p) { return p.fixed || (p.velocity.isZero() && p.spin == 0.0); });
+  return std::all_of(s.particles.begin(), s.particles.end(), [](const Particle& p) {
+    return p.fixed || (p.velocity.isZero() && p.spin == 0.0);
+  });
 }
 
 // The steps of a scene at rest with one backend: the largest overlap and energy change.
 // The steps start from the backend's static forces (as impulses over one step), so that a
 // solved resting case is at rest from the first step.
-void StepAtRest(const Scene& scene, const std::string& backend, const std::vector<ContactForce>& forces, const StabilityOptions& o,
+void StepAtRest(const Scene& scene, const std::string& backend,
+                const std::vector<ContactForce>& forces, const StabilityOptions& o,
                 StabilityRow& row) {
   StepOptions step;
   step.dt = o.dt;
@@ -116,7 +122,8 @@ void StepAtRest(const Scene& scene, const std::string& backend, const std::vecto
     row.energy_change = std::max(row.energy_change, (SceneEnergy(sim.scene()) - e0) / scale);
     if (!r.solve.converged() && row.steps_converged) {
       row.steps_converged = false;
-      row.message = "step " + std::to_string(k + 1) + " not converged (" + ToString(r.solve.status) + ")";
+      row.message =
+          "step " + std::to_string(k + 1) + " not converged (" + ToString(r.solve.status) + ")";
     }
     if (std::chrono::duration<double>(Clock::now() - start).count() > o.max_step_seconds) break;
   }
@@ -140,7 +147,8 @@ void Judge(const StabilityOptions& o, StabilityRow& row) {
     return fail("reported converged at residual " + Scientific(row.report.residual));
   }
   if (row.at_rest && row.report.converged() && row.equilibrium > o.equilibrium_tolerance) {
-    return fail("converged, but the forces miss equilibrium by " + Scientific(row.equilibrium) + " of the mean contact force");
+    return fail("converged, but the forces miss equilibrium by " + Scientific(row.equilibrium) +
+                " of the mean contact force");
   }
   // Overlap grown or energy created while every step claimed convergence is silent; after a
   // step that said it did not converge, it is that step's reported failure.
@@ -171,7 +179,8 @@ double SceneEnergy(const Scene& s) {
   double e = 0.0;
   for (const Particle& p : s.particles) {
     if (p.fixed) continue;
-    e += 0.5 * p.Mass() * p.velocity.squaredNorm() + 0.5 * p.Inertia() * p.spin * p.spin - p.Mass() * g.dot(p.position);
+    e += 0.5 * p.Mass() * p.velocity.squaredNorm() + 0.5 * p.Inertia() * p.spin * p.spin -
+         p.Mass() * g.dot(p.position);
   }
   if (s.effects.pressure_bath) {
     const double volume = s.cell.size.x() * s.cell.size.y();
@@ -187,7 +196,8 @@ double SceneEnergyScale(const Scene& s) {
   for (const Particle& p : s.particles) {
     if (!p.fixed) scale += p.Mass() * g * p.radius;
   }
-  if (s.effects.pressure_bath) scale += s.effects.pressure_bath->pressure * s.cell.size.x() * s.cell.size.y();
+  if (s.effects.pressure_bath)
+    scale += s.effects.pressure_bath->pressure * s.cell.size.x() * s.cell.size.y();
   return scale > 0.0 ? scale : 1.0;
 }
 

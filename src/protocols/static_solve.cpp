@@ -37,8 +37,8 @@ Eigen::VectorXd StoredForcesGuess(const Scene& scene, const std::vector<Contact>
 // The motion of every particle over the step: the solved bodies', and the known motion of
 // prescribed ones (a shifted particle moves by its shift). Fixed particles stay; the
 // largest speed is the bodies' own.
-void RecordMotion(const Scene& scene, const AssembledProblem& assembled, const VelocityState& v, double dt,
-                  StaticSolution& out) {
+void RecordMotion(const Scene& scene, const AssembledProblem& assembled, const VelocityState& v,
+                  double dt, StaticSolution& out) {
   const std::size_t n = assembled.body_of_particle.size();
   out.displacement.assign(n, Vec2::Zero());
   out.rotation.assign(n, 0.0);
@@ -65,22 +65,26 @@ std::string FormatShort(double x) {
 // replaces the answer where the pattern LP finds one that meets the tolerance. The pattern
 // is read with κ = 1 (solvers/pattern_lp.hpp): an exact answer gives its own at any κ, and
 // on inexact ones (newton's stalls) no κ tried (1e-2 to 1e4) gave a pattern with a solution.
-void SelectNearestMember(const ContactProblem& p, const StaticSolveOptions& options, SolveResult& result) {
+void SelectNearestMember(const ContactProblem& p, const StaticSolveOptions& options,
+                         SolveResult& result) {
   double v_scale = options.solver.lemke_velocity_scale;
   if (!(v_scale > 0.0)) v_scale = std::max(VelocityOffset(p).cwiseAbs().maxCoeff(), 1e-300);
   const PatternSolution s = SolveOnPattern(p, result.impulses, p.initial_guess, v_scale, 1.0);
   const double residual = s.found ? ComputeResidual(p, s.impulses).residual : 0.0;
   if (!s.found || !(residual <= options.solver.tolerance)) {
-    result.report.message += "; no member of its pattern meets the tolerance (" +
-                             (s.found ? "the pattern LP's: residual " + FormatShort(residual) : s.message) + ")";
+    result.report.message +=
+        "; no member of its pattern meets the tolerance (" +
+        (s.found ? "the pattern LP's: residual " + FormatShort(residual) : s.message) + ")";
     return;
   }
   result.impulses = s.impulses;
   result.basis.clear();  // not the path's basis: the small-gap check solves 10ξ as at ξ
   result.report.residual = residual;
   result.report.status = SolveStatus::kConverged;
-  result.report.message += "; nearest member of its pattern (pattern LP: " + std::to_string(s.pattern.open) + " open, " +
-                           std::to_string(s.pattern.sliding) + " sliding, " + std::to_string(s.pattern.sticking) + " sticking)";
+  result.report.message +=
+      "; nearest member of its pattern (pattern LP: " + std::to_string(s.pattern.open) + " open, " +
+      std::to_string(s.pattern.sliding) + " sliding, " + std::to_string(s.pattern.sticking) +
+      " sticking)";
   result.report.backend += "+pattern";
 }
 }  // namespace
@@ -94,7 +98,8 @@ StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& op
   assembly.dt = options.dt;
   assembly.closed_gap_tolerance = options.closed_gap_tolerance;
   out.assembled = AssembleProblem(rest, out.contacts, assembly);
-  out.assembled.problem.initial_guess = StoredForcesGuess(scene, out.contacts, out.assembled, options.dt);
+  out.assembled.problem.initial_guess =
+      StoredForcesGuess(scene, out.contacts, out.assembled, options.dt);
   return out;
 }
 
@@ -102,13 +107,15 @@ StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options
   return SolveStatic(scene, PoseStaticProblem(scene, options), options);
 }
 
-StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const StaticSolveOptions& options) {
+StaticSolution SolveStatic(const Scene& scene, StaticProblem posed,
+                           const StaticSolveOptions& options) {
   SolveResult result = MakeSolver(options.backend)->Solve(posed.assembled.problem, options.solver);
   if (options.nearest_member) SelectNearestMember(posed.assembled.problem, options, result);
   return SolutionOf(scene, std::move(posed), result, options.dt);
 }
 
-StaticSolution SolutionOf(const Scene& scene, StaticProblem posed, const SolveResult& result, double dt) {
+StaticSolution SolutionOf(const Scene& scene, StaticProblem posed, const SolveResult& result,
+                          double dt) {
   const Scene rest = AtRest(scene);
   StaticSolution out;
   out.contacts = std::move(posed.contacts);
@@ -117,18 +124,23 @@ StaticSolution SolutionOf(const Scene& scene, StaticProblem posed, const SolveRe
   out.report = result.report;
   if (!assembled.violated_immovable.empty()) {  // no solver can keep that contact closed
     out.report.status = SolveStatus::kNumericalFailure;
-    const std::string solver = out.report.message.empty() ? "" : "; the solver: " + out.report.message;
-    out.report.message = DescribeImmovableViolation(out.contacts[assembled.violated_immovable.front()]) + solver;
+    const std::string solver =
+        out.report.message.empty() ? "" : "; the solver: " + out.report.message;
+    out.report.message =
+        DescribeImmovableViolation(out.contacts[assembled.violated_immovable.front()]) + solver;
   }
   out.forces.assign(out.contacts.size(), Eigen::Vector2d::Zero());
   const int stride = p.UnknownsPerContact();
   for (int k = 0; k < p.NumContacts(); ++k) {
-    out.forces[assembled.source_contact[k]] = Eigen::Vector2d(
-        result.impulses[k * stride], stride == 2 ? result.impulses[k * stride + 1] : 0.0) / dt;
+    out.forces[assembled.source_contact[k]] =
+        Eigen::Vector2d(result.impulses[k * stride],
+                        stride == 2 ? result.impulses[k * stride + 1] : 0.0) /
+        dt;
   }
   if (!result.basis.empty()) {
     out.basis.assign(out.contacts.size(), 0);
-    for (int k = 0; k < p.NumContacts(); ++k) out.basis[assembled.source_contact[k]] = result.basis[k];
+    for (int k = 0; k < p.NumContacts(); ++k)
+      out.basis[assembled.source_contact[k]] = result.basis[k];
   }
   RecordMotion(scene, assembled, EndVelocityState(p, result.impulses), dt, out);
   out.equilibrium = CheckEquilibrium(rest, out.contacts, out.forces);

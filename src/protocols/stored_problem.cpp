@@ -15,7 +15,9 @@ StoredSolution SolveStoredProblem(const DelassusProblem& problem, const std::str
   out.report.residual = ComputeResidual(problem, out.impulses).residual;
   if (out.report.converged() && !(out.report.residual <= options.tolerance)) {
     char message[160];
-    std::snprintf(message, sizeof message, "the backend reported convergence, but the residual of its impulses is %.3e", out.report.residual);
+    std::snprintf(message, sizeof message,
+                  "the backend reported convergence, but the residual of its impulses is %.3e",
+                  out.report.residual);
     out.report.status = SolveStatus::kNumericalFailure;
     out.report.message = message;
   }

@@ -43,8 +43,10 @@ double WrapCoordinate(double x, double length) {
 void WrapPositions(Scene& scene) {
   const Periodicity p = scene.cell.periodicity;
   for (Particle& particle : scene.particles) {
-    if (PeriodicX(p)) particle.position.x() = WrapCoordinate(particle.position.x(), scene.cell.size.x());
-    if (PeriodicY(p)) particle.position.y() = WrapCoordinate(particle.position.y(), scene.cell.size.y());
+    if (PeriodicX(p))
+      particle.position.x() = WrapCoordinate(particle.position.x(), scene.cell.size.x());
+    if (PeriodicY(p))
+      particle.position.y() = WrapCoordinate(particle.position.y(), scene.cell.size.y());
   }
 }
 

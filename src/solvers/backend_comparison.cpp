@@ -21,7 +21,9 @@ double ResidualOf(const AnyProblem& p, const Eigen::VectorXd& r) {
 }
 
 double MeanNormalImpulse(const AnyProblem& p, const Eigen::VectorXd& r) {
-  const int m = std::holds_alternative<ContactProblem>(p) ? std::get<ContactProblem>(p).UnknownsPerContact() : 2;
+  const int m = std::holds_alternative<ContactProblem>(p)
+                    ? std::get<ContactProblem>(p).UnknownsPerContact()
+                    : 2;
   const int contacts = static_cast<int>(r.size()) / m;
   double sum = 0.0;
   for (int k = 0; k < contacts; ++k) sum += std::abs(r[k * m]);
@@ -42,16 +44,18 @@ std::string Describe(const std::string& backend, double tolerance) {
 
 }  // namespace
 
-std::vector<ComparisonReference> CompareBackends(const std::vector<ComparisonProblem>& problems,
-                                                 const ComparisonOptions& options,
-                                                 const std::function<void(const ComparisonRun&)>& on_run) {
+std::vector<ComparisonReference> CompareBackends(
+    const std::vector<ComparisonProblem>& problems, const ComparisonOptions& options,
+    const std::function<void(const ComparisonRun&)>& on_run) {
   for (const std::string& b : options.backends) MakeSolver(b);  // unknown names fail first
   std::vector<ComparisonReference> references;
   for (const ComparisonProblem& cp : problems) {
     SolverOptions tight = options.solver;
     tight.tolerance = options.reference_tolerance;
     const SolveResult ref = SolveAny(*MakeSolver(options.reference_backend), cp.problem, tight);
-    ComparisonReference reference{ref.impulses, ref.report.residual, Describe(options.reference_backend, options.reference_tolerance), 0.0};
+    ComparisonReference reference{ref.impulses, ref.report.residual,
+                                  Describe(options.reference_backend, options.reference_tolerance),
+                                  0.0};
     if (!ref.report.converged()) reference.source += " (not reached)";
 
     std::vector<ComparisonRun> runs;
@@ -64,8 +68,10 @@ std::vector<ComparisonReference> CompareBackends(const std::vector<ComparisonPro
         s.report.residual = ResidualOf(cp.problem, s.impulses);  // whatever the backend claims
         runs.push_back({cp.name, backend, tolerance, s.report, 0.0});
         impulses.push_back(std::move(s.impulses));
-        if (s.report.status != SolveStatus::kUnsupported && s.report.residual < reference.residual) {  // a better solution than the reference run
-          reference = {impulses.back(), s.report.residual, "best run: " + Describe(backend, tolerance), 0.0};
+        if (s.report.status != SolveStatus::kUnsupported &&
+            s.report.residual < reference.residual) {  // a better solution than the reference run
+          reference = {impulses.back(), s.report.residual,
+                       "best run: " + Describe(backend, tolerance), 0.0};
         }
       }
     }

@@ -66,21 +66,26 @@ std::string AsymmetryOf(const DelassusProblem& p) {
   const Eigen::SparseMatrix<double> difference = p.w - transpose;
   double largest = 0.0;
   for (int col = 0; col < p.w.outerSize(); ++col) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(p.w, col); it; ++it) largest = std::max(largest, std::abs(it.value()));
+    for (Eigen::SparseMatrix<double>::InnerIterator it(p.w, col); it; ++it)
+      largest = std::max(largest, std::abs(it.value()));
   }
   double worst = 0.0;
   for (int col = 0; col < difference.outerSize(); ++col) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(difference, col); it; ++it) worst = std::max(worst, std::abs(it.value()));
+    for (Eigen::SparseMatrix<double>::InnerIterator it(difference, col); it; ++it)
+      worst = std::max(worst, std::abs(it.value()));
   }
   if (worst <= kSymmetryTolerance * largest) return "";
   char buf[160];
-  std::snprintf(buf, sizeof buf, "W is not symmetric (max |W - W^T| = %.3g, %.3g of max |W|): ", worst,
+  std::snprintf(buf, sizeof buf,
+                "W is not symmetric (max |W - W^T| = %.3g, %.3g of max |W|): ", worst,
                 worst / largest);
   return std::string(buf) +
-         "the De Saxcé fixed point minimises 1/2 r^T W r + (q + s)^T r, which needs a symmetric W (docs/backends.md)";
+         "the De Saxcé fixed point minimises 1/2 r^T W r + (q + s)^T r, which needs a symmetric W "
+         "(docs/backends.md)";
 }
 
-SolveResult Unsupported(const DelassusProblem& p, const std::string& backend, const std::string& why) {
+SolveResult Unsupported(const DelassusProblem& p, const std::string& backend,
+                        const std::string& why) {
   SolveResult result;
   result.impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
   result.report.backend = backend;
@@ -121,7 +126,8 @@ Eigen::Vector2d ConvexLaw::Local(const Eigen::VectorXd& x, int k) const {
 Eigen::VectorXd ConvexLaw::Shift(const Eigen::VectorXd& velocity) const {
   Eigen::VectorXd s = Eigen::VectorXd::Zero(layout_.NumUnknowns());
   for (int k = 0; k < layout_.NumContacts(); ++k) {
-    if (IsFrictionalUnilateral(layout_, k)) s[2 * k] = layout_.laws[k].mu * std::abs(velocity[2 * k + 1]);
+    if (IsFrictionalUnilateral(layout_, k))
+      s[2 * k] = layout_.laws[k].mu * std::abs(velocity[2 * k + 1]);
   }
   return s;
 }
@@ -133,7 +139,8 @@ double ConvexLaw::Scale(const Eigen::VectorXd& impulses) const {
 }
 
 // r_k − ρ_k (ũ_k + s_k): the point the natural map projects.
-Eigen::Vector2d ConvexLaw::MapArgument(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+Eigen::Vector2d ConvexLaw::MapArgument(const Eigen::VectorXd& impulses,
+                                       const Eigen::VectorXd& velocity,
                                        const Eigen::VectorXd& shift, int k) const {
   return Local(impulses, k) - rho_[k] * (Local(velocity, k) + Local(shift, k));
 }
@@ -167,14 +174,16 @@ double ConvexLaw::ShiftChange(const Eigen::VectorXd& impulses, const Eigen::Vect
   return worst / Scale(impulses);
 }
 
-Eigen::VectorXd ConvexLaw::ZeroOpenContacts(const Eigen::VectorXd& impulses, const Eigen::VectorXd& velocity,
+Eigen::VectorXd ConvexLaw::ZeroOpenContacts(const Eigen::VectorXd& impulses,
+                                            const Eigen::VectorXd& velocity,
                                             const Eigen::VectorXd& shift) const {
   Eigen::VectorXd out = impulses;
   const int m = layout_.per_contact;
   for (int k = 0; k < layout_.NumContacts(); ++k) {
     if (layout_.laws[k].kind == ConstraintKind::kBilateral) continue;
     const Eigen::Vector2d z = MapArgument(impulses, velocity, shift, k);
-    const bool open = layout_.frictional ? ProjectOnCone(z, layout_.laws[k].mu).isZero(0.0) : z[0] <= 0.0;
+    const bool open =
+        layout_.frictional ? ProjectOnCone(z, layout_.laws[k].mu).isZero(0.0) : z[0] <= 0.0;
     if (open) out.segment(k * m, m).setZero();
   }
   return out;
@@ -182,13 +191,15 @@ Eigen::VectorXd ConvexLaw::ZeroOpenContacts(const Eigen::VectorXd& impulses, con
 
 namespace {
 
-constexpr double kInnerSafety = 0.1;     // the tightest inner tolerance, × the outer one
-constexpr double kShiftFollow = 0.1;     // inner tolerance × the last move of the shift
-constexpr double kLoosestInner = 1e-3;   // looser convex solves are wasted
-constexpr int kStallIterations = 10;     // outer iterations without halving the residual
+constexpr double kInnerSafety = 0.1;    // the tightest inner tolerance, × the outer one
+constexpr double kShiftFollow = 0.1;    // inner tolerance × the last move of the shift
+constexpr double kLoosestInner = 1e-3;  // looser convex solves are wasted
+constexpr int kStallIterations = 10;    // outer iterations without halving the residual
 
 // ũ = W r + q of either form.
-Eigen::VectorXd Posed(const ContactProblem& p, const Eigen::VectorXd& r) { return PosedContactVelocity(p, r); }
+Eigen::VectorXd Posed(const ContactProblem& p, const Eigen::VectorXd& r) {
+  return PosedContactVelocity(p, r);
+}
 Eigen::VectorXd Posed(const DelassusProblem& p, const Eigen::VectorXd& r) { return p.w * r + p.q; }
 
 struct Iterate {
@@ -214,7 +225,8 @@ Iterate Polished(const Problem& p, const ConvexLaw& law, const Eigen::VectorXd& 
 
 template <class Problem>
 Eigen::VectorXd InitialImpulses(const Problem& p) {
-  if (p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite()) return p.initial_guess;
+  if (p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite())
+    return p.initial_guess;
   return Eigen::VectorXd::Zero(p.NumUnknowns());
 }
 
@@ -268,7 +280,8 @@ SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std:
   if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step, start);
   const ConvexStep s = step.Solve(zero, InitialImpulses(p), kInnerSafety * o.tolerance);
   if (!s.impulses.allFinite()) {
-    return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o, backend, step, start);
+    return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o,
+                  backend, step, start);
   }
   const Iterate solution = Polished(p, law, s.impulses, zero);
   const double own = law.Residual(solution.impulses, Posed(p, solution.impulses), zero);
@@ -276,18 +289,21 @@ SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std:
   if (!s.solved) {
     outcome = {s.failure, s.library_status};
   } else if (own <= o.tolerance) {
-    outcome = {SolveStatus::kRelaxedModel,
-               "convex relaxation solved (its own residual " + Number(own) +
-                   "); a different model from the exact Coulomb law, against which the residual is reported"};
+    outcome = {SolveStatus::kRelaxedModel, "convex relaxation solved (its own residual " +
+                                               Number(own) +
+                                               "); a different model from the exact Coulomb law, "
+                                               "against which the residual is reported"};
   } else {
-    outcome = {SolveStatus::kIterationLimit, "convex relaxation not solved to the tolerance (its own residual " +
-                                                 Number(own) + ", " + s.library_status + ")"};
+    outcome = {SolveStatus::kIterationLimit,
+               "convex relaxation not solved to the tolerance (its own residual " + Number(own) +
+                   ", " + s.library_status + ")"};
   }
   return Finish(p, solution, outcome, 1, s.iterations, o, backend, step, start);
 }
 
 template <class Problem>
-SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::string& backend, ConvexStepSolver& step) {
+SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::string& backend,
+                       ConvexStepSolver& step) {
   Validate(o);
   if (o.convex_relaxation) return SolveRelaxation(p, o, backend, step);
   const auto start = std::chrono::steady_clock::now();
@@ -299,7 +315,8 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::stri
   Eigen::VectorXd shift = warm ? law.Shift(Posed(p, r)) : Eigen::VectorXd::Zero(p.NumUnknowns());
   Eigen::VectorXd previous_shift = Eigen::VectorXd::Zero(p.NumUnknowns());
 
-  Outcome outcome{SolveStatus::kIterationLimit, "outer iteration limit of the De Saxcé fixed point"};
+  Outcome outcome{SolveStatus::kIterationLimit,
+                  "outer iteration limit of the De Saxcé fixed point"};
   int solves = 0;
   int library_iterations = 0;
   int since_progress = 0;
@@ -326,18 +343,21 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::stri
     // The same convex problem again, as tight as before, after a solve that did not help:
     // the library's accuracy, not the shift, is the limit.
     const double tightest = kInnerSafety * o.tolerance;
-    if (inner <= tightest && InnerTolerance(o, law.ShiftChange(r, previous_shift, shift)) <= tightest &&
+    if (inner <= tightest &&
+        InnerTolerance(o, law.ShiftChange(r, previous_shift, shift)) <= tightest &&
         !(best.residual < best_before)) {
       outcome = {SolveStatus::kIterationLimit,
-                 "the convex solves stopped improving with the shift settled (the library's accuracy limit)"};
+                 "the convex solves stopped improving with the shift settled (the library's "
+                 "accuracy limit)"};
       break;
     }
     if (best.residual <= 0.5 * progress_mark) {
       progress_mark = best.residual;
       since_progress = 0;
     } else if (++since_progress >= kStallIterations) {
-      outcome = {SolveStatus::kIterationLimit, "De Saxcé fixed point stalled (no halving of the residual in " +
-                                                   std::to_string(kStallIterations) + " convex solves)"};
+      outcome = {SolveStatus::kIterationLimit,
+                 "De Saxcé fixed point stalled (no halving of the residual in " +
+                     std::to_string(kStallIterations) + " convex solves)"};
       break;
     }
   }

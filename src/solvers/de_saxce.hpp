@@ -24,15 +24,16 @@ namespace unjam {
 // two unknowns per contact (μ may be 0); `diagonal` is (W_nn, W_tt) of the contact, zero for
 // a contact without degrees of freedom (its impulse is held at 0).
 struct ContactLayout {
-  int per_contact = 1;                   // unknowns per contact
+  int per_contact = 1;  // unknowns per contact
   bool frictional = false;
-  std::vector<ContactLaw> laws;          // per contact
-  std::vector<Eigen::Vector2d> diagonal; // per contact
+  std::vector<ContactLaw> laws;           // per contact
+  std::vector<Eigen::Vector2d> diagonal;  // per contact
   int NumContacts() const { return static_cast<int>(laws.size()); }
   int NumUnknowns() const { return per_contact * NumContacts(); }
   // A frictional unilateral contact with μ > 0 and degrees of freedom: its cone is posed.
   bool ConeRows(int k) const {
-    return frictional && laws[k].kind == ConstraintKind::kUnilateral && laws[k].mu > 0.0 && !Inert(k);
+    return frictional && laws[k].kind == ConstraintKind::kUnilateral && laws[k].mu > 0.0 &&
+           !Inert(k);
   }
   bool Inert(int k) const { return diagonal[k].isZero(0.0); }
 };
@@ -45,7 +46,8 @@ ContactLayout LayoutOf(const DelassusProblem& problem);
 constexpr double kSymmetryTolerance = 1e-10;
 std::string AsymmetryOf(const DelassusProblem& problem);
 // The refusal of a backend that cannot pose `problem` (kUnsupported, zero impulses).
-SolveResult Unsupported(const DelassusProblem& problem, const std::string& backend, const std::string& why);
+SolveResult Unsupported(const DelassusProblem& problem, const std::string& backend,
+                        const std::string& why);
 
 // The convex step's law at a frozen shift: the fixed point's measures and helpers.
 // Vectors are laid out as the impulses, UnknownsPerContact() per contact; `velocity` is the
@@ -90,10 +92,10 @@ class ConvexLaw {
 // One convex solve, as a library reports it.
 struct ConvexStep {
   Eigen::VectorXd impulses;
-  bool solved = false;            // the library reports success
+  bool solved = false;                                   // the library reports success
   SolveStatus failure = SolveStatus::kNumericalFailure;  // what a failure means for the report
-  std::string library_status;     // the library's own name for how it stopped
-  int iterations = 0;             // the library's iterations (or evaluations)
+  std::string library_status;  // the library's own name for how it stopped
+  int iterations = 0;          // the library's iterations (or evaluations)
 };
 
 class ConvexStepSolver {

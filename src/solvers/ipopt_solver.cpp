@@ -52,21 +52,21 @@ using Ipopt::Number;
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
-constexpr double kInfinity = 2e19;  // Ipopt reads |bound| ≥ 1e19 as none
+constexpr double kInfinity = 2e19;         // Ipopt reads |bound| ≥ 1e19 as none
 constexpr double kToleranceFloor = 1e-13;  // on Ipopt's scaled KKT error (SetTolerance)
 
 // The scaled QP: x = (r / S, y / (S C)), objective ½ xᵀ Q x + ((q + s) / (S w̄))ᵀ x, rows
 // J x. Q and J do not depend on S.
 struct ScaledQp {
   int unknowns = 0;
-  double delassus_scale = 1.0;   // w̄
-  SparseMatrix hessian;          // Q, symmetric, both triangles
-  SparseMatrix rows;             // J, row-major use through triplets
+  double delassus_scale = 1.0;  // w̄
+  SparseMatrix hessian;         // Q, symmetric, both triangles
+  SparseMatrix rows;            // J, row-major use through triplets
   Triplets hessian_lower;
   Triplets row_entries;
-  Eigen::VectorXd offset;        // q / w̄
-  Eigen::VectorXd cell_arms;     // c, per unknown (0 on tangential rows)
-  double cell_unit = 1.0;        // C = Σ|c_k|
+  Eigen::VectorXd offset;     // q / w̄
+  Eigen::VectorXd cell_arms;  // c, per unknown (0 on tangential rows)
+  double cell_unit = 1.0;     // C = Σ|c_k|
   std::vector<double> x_lower, x_upper, g_lower, g_upper;
   int Variables() const { return static_cast<int>(x_lower.size()); }
 };
@@ -76,7 +76,8 @@ void SetBounds(const ContactLayout& p, int k, ScaledQp& qp) {
   const ContactLaw& c = p.laws[k];
   const bool inert = p.Inert(k);  // no degrees of freedom: r = 0
   const bool cone_rows = p.ConeRows(k);
-  qp.x_lower[k * m] = inert ? 0.0 : (c.kind == ConstraintKind::kBilateral || cone_rows ? -kInfinity : 0.0);
+  qp.x_lower[k * m] =
+      inert ? 0.0 : (c.kind == ConstraintKind::kBilateral || cone_rows ? -kInfinity : 0.0);
   qp.x_upper[k * m] = inert ? 0.0 : kInfinity;
   if (m == 2) {
     qp.x_lower[k * m + 1] = cone_rows ? -kInfinity : 0.0;
@@ -100,7 +101,8 @@ void AddRows(const ContactLayout& p, bool cell, ScaledQp& qp) {
   if (!cell) return;
   qp.row_entries.emplace_back(row, qp.unknowns, 1.0);
   for (int i = 0; i < qp.unknowns; ++i) {
-    if (qp.cell_arms[i] != 0.0) qp.row_entries.emplace_back(row, i, -qp.cell_arms[i] / qp.cell_unit);
+    if (qp.cell_arms[i] != 0.0)
+      qp.row_entries.emplace_back(row, i, -qp.cell_arms[i] / qp.cell_unit);
   }
   qp.g_lower.push_back(0.0);
   qp.g_upper.push_back(0.0);
@@ -137,8 +139,9 @@ ScaledQp MakeScaledQp(const ContactProblem& p) {
     qp.cell_unit = std::max(qp.cell_arms.lpNorm<1>(), 1e-300);
   }
   const int body_dofs = p.NumBodies() * p.DofsPerBody();  // the cell column, if any, is last
-  const SparseMatrix h_b = h.leftCols(body_dofs);           // the cell enters through y
-  const SparseMatrix w_b = h_b * InverseMassDiagonal(p).head(body_dofs).asDiagonal() * h_b.transpose();
+  const SparseMatrix h_b = h.leftCols(body_dofs);         // the cell enters through y
+  const SparseMatrix w_b =
+      h_b * InverseMassDiagonal(p).head(body_dofs).asDiagonal() * h_b.transpose();
   Triplets q;
   for (int col = 0; col < w_b.outerSize(); ++col) {
     for (SparseMatrix::InnerIterator it(w_b, col); it; ++it) {
@@ -174,7 +177,8 @@ ScaledQp MakeScaledQp(const DelassusProblem& p) {
   for (int col = 0; col < symmetric.outerSize(); ++col) {
     for (SparseMatrix::InnerIterator it(symmetric, col); it; ++it) {
       q.emplace_back(static_cast<int>(it.row()), col, it.value());
-      if (it.row() >= col) qp.hessian_lower.emplace_back(static_cast<int>(it.row()), col, it.value());
+      if (it.row() >= col)
+        qp.hessian_lower.emplace_back(static_cast<int>(it.row()), col, it.value());
     }
   }
   qp.hessian.resize(qp.unknowns, qp.unknowns);
@@ -189,7 +193,8 @@ class ConvexQpTnlp : public Ipopt::TNLP {
   ConvexQpTnlp(const ScaledQp& qp, Eigen::VectorXd linear, Eigen::VectorXd start)
       : qp_(qp), linear_(std::move(linear)), start_(std::move(start)), solution_(start_) {}
 
-  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess, IndexStyleEnum& style) override {
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess,
+                    IndexStyleEnum& style) override {
     n = qp_.Variables();
     m = static_cast<Index>(qp_.g_lower.size());
     nnz_jac = static_cast<Index>(qp_.row_entries.size());
@@ -204,7 +209,8 @@ class ConvexQpTnlp : public Ipopt::TNLP {
     std::copy_n(qp_.g_upper.data(), m, gu);
     return true;
   }
-  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool, Number*) override {
+  bool get_starting_point(Index n, bool, Number* x, bool, Number*, Number*, Index, bool,
+                          Number*) override {
     std::copy_n(start_.data(), n, x);
     return true;
   }
@@ -222,7 +228,8 @@ class ConvexQpTnlp : public Ipopt::TNLP {
     Eigen::Map<Eigen::VectorXd>(g, m) = qp_.rows * Eigen::Map<const Eigen::VectorXd>(x, n);
     return true;
   }
-  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* irow, Index* jcol, Number* values) override {
+  bool eval_jac_g(Index, const Number*, bool, Index, Index, Index* irow, Index* jcol,
+                  Number* values) override {
     for (std::size_t e = 0; e < qp_.row_entries.size(); ++e) {
       if (values == nullptr) {
         irow[e] = qp_.row_entries[e].row();
@@ -246,9 +253,9 @@ class ConvexQpTnlp : public Ipopt::TNLP {
     }
     return true;
   }
-  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*, const Number*, Index,
-                         const Number*, const Number*, Number, const Ipopt::IpoptData*,
-                         Ipopt::IpoptCalculatedQuantities*) override {
+  void finalize_solution(Ipopt::SolverReturn, Index n, const Number* x, const Number*,
+                         const Number*, Index, const Number*, const Number*, Number,
+                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
     solution_ = Eigen::Map<const Eigen::VectorXd>(x, n);
   }
   const Eigen::VectorXd& solution() const { return solution_; }
@@ -302,7 +309,8 @@ class IpoptStep final : public ConvexStepSolver {
     initialized_ = app_->Initialize("") == Ipopt::Solve_Succeeded;
   }
 
-  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start, double tolerance) override {
+  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
+                   double tolerance) override {
     ConvexStep out;
     out.impulses = start;
     if (!initialized_) {
@@ -318,9 +326,10 @@ class IpoptStep final : public ConvexStepSolver {
     if (Ipopt::IsValid(app_->Statistics())) out.iterations = app_->Statistics()->IterationCount();
     out.impulses = scale * tnlp->solution().head(qp_.unknowns);
     out.solved = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
-    out.failure = status == Ipopt::Maximum_Iterations_Exceeded || status == Ipopt::Maximum_CpuTime_Exceeded
-                      ? SolveStatus::kIterationLimit
-                      : SolveStatus::kNumericalFailure;
+    out.failure =
+        status == Ipopt::Maximum_Iterations_Exceeded || status == Ipopt::Maximum_CpuTime_Exceeded
+            ? SolveStatus::kIterationLimit
+            : SolveStatus::kNumericalFailure;
     out.library_status = std::string("Ipopt ") + StatusName(status);
     return out;
   }
@@ -354,7 +363,8 @@ class IpoptStep final : public ConvexStepSolver {
   Eigen::VectorXd ScaledStart(const Eigen::VectorXd& impulses, double scale) const {
     Eigen::VectorXd x = Eigen::VectorXd::Zero(qp_.Variables());
     x.head(qp_.unknowns) = impulses / scale;
-    if (qp_.Variables() > qp_.unknowns) x[qp_.unknowns] = qp_.cell_arms.dot(x.head(qp_.unknowns)) / qp_.cell_unit;  // y = cᵀ r_n
+    if (qp_.Variables() > qp_.unknowns)
+      x[qp_.unknowns] = qp_.cell_arms.dot(x.head(qp_.unknowns)) / qp_.cell_unit;  // y = cᵀ r_n
     return x;
   }
 

@@ -66,9 +66,9 @@ enum class ConeForm { kSlipSpeed, kShiftedBox };
 
 // The complementarity rows and variables of the contact laws (the table at the top).
 struct Encoding {
-  Triplets impulse;   // r = T z: (unknown, variable, coefficient)
-  Triplets velocity;  // S: (row, unknown, coefficient), so that w = S ũ + E z
-  Triplets coupling;  // E: (row, variable, coefficient)
+  Triplets impulse;            // r = T z: (unknown, variable, coefficient)
+  Triplets velocity;           // S: (row, unknown, coefficient), so that w = S ũ + E z
+  Triplets coupling;           // E: (row, variable, coefficient)
   std::vector<char> cone_row;  // per row: 1 for μ r_n − a − b (an impulse), 0 for a velocity
   int variables = 0;
 };
@@ -91,14 +91,18 @@ Encoding Encode(const MatrixForm& k, ConeForm form) {
       const double mu = k.laws[c].mu;
       enc.impulse.insert(enc.impulse.end(), {{n, z, 1.0}, {t, z + 1, 1.0}, {t, z, -mu}});
       enc.velocity.insert(enc.velocity.end(), {{z, n, 1.0}, {z + 1, t, 1.0}});
-      enc.coupling.insert(enc.coupling.end(), {{z + 1, z + 2, 1.0}, {z + 2, z, 2.0 * mu}, {z + 2, z + 1, -1.0}});
+      enc.coupling.insert(enc.coupling.end(),
+                          {{z + 1, z + 2, 1.0}, {z + 2, z, 2.0 * mu}, {z + 2, z + 1, -1.0}});
       enc.variables += 3;
       enc.cone_row.insert(enc.cone_row.end(), {0, 0, 1});
     } else {  // variables r_n, a, b, s at z … z+3
       enc.impulse.insert(enc.impulse.end(), {{n, z, 1.0}, {t, z + 1, 1.0}, {t, z + 2, -1.0}});
       enc.velocity.insert(enc.velocity.end(), {{z, n, 1.0}, {z + 1, t, 1.0}, {z + 2, t, -1.0}});
-      enc.coupling.insert(enc.coupling.end(), {{z + 1, z + 3, 1.0}, {z + 2, z + 3, 1.0},
-                                               {z + 3, z, k.laws[c].mu}, {z + 3, z + 1, -1.0}, {z + 3, z + 2, -1.0}});
+      enc.coupling.insert(enc.coupling.end(), {{z + 1, z + 3, 1.0},
+                                               {z + 2, z + 3, 1.0},
+                                               {z + 3, z, k.laws[c].mu},
+                                               {z + 3, z + 1, -1.0},
+                                               {z + 3, z + 2, -1.0}});
       enc.variables += 4;
       enc.cone_row.insert(enc.cone_row.end(), {0, 0, 0, 1});
     }
@@ -135,7 +139,8 @@ int SlipFormVariables(const MatrixForm& k, int c) {
 
 // A basis per contact (ContactProblem::initial_basis: bit k for the contact's k-th
 // variable) as flags per variable of the slip-speed form, or empty if it does not fit.
-std::vector<char> ExpandBasis(const MatrixForm& k, const std::vector<std::uint8_t>& per_contact, int variables) {
+std::vector<char> ExpandBasis(const MatrixForm& k, const std::vector<std::uint8_t>& per_contact,
+                              int variables) {
   if (static_cast<int>(per_contact.size()) != k.NumContacts()) return {};
   std::vector<char> flags;
   flags.reserve(variables);
@@ -163,9 +168,11 @@ std::vector<std::uint8_t> CompressBasis(const MatrixForm& k, const std::vector<c
 // cone's edge, a sticking one the multiplier of r_t's sign, and s too if r_t is at the
 // edge. Degenerate choices are guesses; a singular or infeasible basis is rejected where
 // it is used.
-std::vector<std::uint8_t> BasisOfPattern(const MatrixForm& k, const Eigen::VectorXd& r, double velocity_scale) {
+std::vector<std::uint8_t> BasisOfPattern(const MatrixForm& k, const Eigen::VectorXd& r,
+                                         double velocity_scale) {
   const Eigen::VectorXd u = k.h * (k.v_free + k.g * r) + k.offset;
-  const double force_floor = 1e-12 * std::max(r.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  const double force_floor =
+      1e-12 * std::max(r.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
   std::vector<std::uint8_t> basis(k.NumContacts(), 0);
   for (int c = 0; c < k.NumContacts(); ++c) {
     const double rn = r[k.per_contact * c];
@@ -195,17 +202,22 @@ std::vector<std::uint8_t> InitialBasisOf(const DelassusProblem&) { return {}; }
 // A pseudo-random number in [1, 2) from an index (splitmix64): the same perturbation on
 // every run, thread and machine.
 double GenericWeight(int index) {
-  return 1.0 + static_cast<double>(solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(index)) >> 11) * 0x1.0p-53;
+  return 1.0 + static_cast<double>(
+                   solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(index)) >> 11) *
+                   0x1.0p-53;
 }
 
 // The generic right-hand side perturbation of a perturbed run (lemke_mlcp.hpp): every
 // velocity row (w = ũ_n, ±u_t + s) is loosened by `size` × a weight in [1, 2) of the
 // velocity scale: the caller's (ξ/Δt on a perturbation step), else the largest |offset|.
 // The cone rows (μ r_n − a − b) are impulse rows and stay exact.
-Eigen::VectorXd PerturbationOf(const MatrixForm& k, const Encoding& enc, const SolverOptions& o, double size,
-                               double velocity_unit) {
+Eigen::VectorXd PerturbationOf(const MatrixForm& k, const Encoding& enc, const SolverOptions& o,
+                               double size, double velocity_unit) {
   const double largest_offset = k.offset.size() > 0 ? k.offset.cwiseAbs().maxCoeff() : 0.0;
-  const double scale = (o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale : largest_offset > 0.0 ? largest_offset : 1.0) / velocity_unit;
+  const double scale = (o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale
+                        : largest_offset > 0.0       ? largest_offset
+                                                     : 1.0) /
+                       velocity_unit;
   Eigen::VectorXd perturbation = Eigen::VectorXd::Zero(enc.variables);
   for (int row = 0; row < enc.variables; ++row) {
     if (!enc.cone_row[row]) perturbation[row] = size * scale * GenericWeight(row);
@@ -225,11 +237,16 @@ SparseMatrix FromTriplets(int rows, int cols, const Triplets& t) {
   return m;
 }
 
-SolveResult SolveWithNewton(const ContactProblem& p, const SolverOptions& o) { return NewtonSolver().Solve(p, o); }
-SolveResult SolveWithNewton(const DelassusProblem& p, const SolverOptions& o) { return NewtonSolver().SolveDelassus(p, o); }
+SolveResult SolveWithNewton(const ContactProblem& p, const SolverOptions& o) {
+  return NewtonSolver().Solve(p, o);
+}
+SolveResult SolveWithNewton(const DelassusProblem& p, const SolverOptions& o) {
+  return NewtonSolver().SolveDelassus(p, o);
+}
 
 template <class Problem>
-SolveResult Polish(const Problem& problem, const Eigen::VectorXd& impulses, const SolverOptions& o) {
+SolveResult Polish(const Problem& problem, const Eigen::VectorXd& impulses,
+                   const SolverOptions& o) {
   Problem from = problem;
   from.initial_guess = impulses;
   return SolveWithNewton(from, o);
@@ -269,8 +286,9 @@ Posed Pose(const MatrixForm& k, ConeForm form, double velocity_unit = 1.0) {
 
 bool HasFriction(const MatrixForm& k) {
   if (k.per_contact == 1) return false;
-  return std::any_of(k.laws.begin(), k.laws.end(),
-                     [](const ContactLaw& law) { return law.kind != ConstraintKind::kBilateral && law.mu > 0.0; });
+  return std::any_of(k.laws.begin(), k.laws.end(), [](const ContactLaw& law) {
+    return law.kind != ConstraintKind::kBilateral && law.mu > 0.0;
+  });
 }
 
 // SolverOptions::lemke_velocity_bound: does the answer move some free variable faster?
@@ -278,11 +296,13 @@ bool HasFriction(const MatrixForm& k) {
 // on a pile at μ = 1 the first path usually ends on one in which a grain held up by
 // friction alone falls freely, while a later run ends on a quasi-static one
 // (docs/perturbations.md, "At μ = 1").
-bool AboveVelocityBound(const MatrixForm& k, const Eigen::VectorXd& impulses, const SolverOptions& o, std::string& history) {
+bool AboveVelocityBound(const MatrixForm& k, const Eigen::VectorXd& impulses,
+                        const SolverOptions& o, std::string& history) {
   if (o.lemke_velocity_bound <= 0.0) return false;
   const double fastest = (k.v_free + k.g * impulses).cwiseAbs().maxCoeff();
   if (fastest <= o.lemke_velocity_bound) return false;
-  history += " (a velocity of " + Scientific(fastest) + ", above the bound " + Scientific(o.lemke_velocity_bound) + ": the next run is tried)";
+  history += " (a velocity of " + Scientific(fastest) + ", above the bound " +
+             Scientific(o.lemke_velocity_bound) + ": the next run is tried)";
   return true;
 }
 
@@ -349,7 +369,8 @@ struct Run {
 // step's own units they end on rays or cycles on 15 (docs/perturbations.md, "At μ = 1").
 // The rate form is the slip-speed form itself when no velocity scale is given (rate_form
 // false).
-std::vector<Run> PlanRuns(bool given_basis, bool has_guess, bool rate_form, bool frictional, bool box_rate_first) {
+std::vector<Run> PlanRuns(bool given_basis, bool has_guess, bool rate_form, bool frictional,
+                          bool box_rate_first) {
   std::vector<Run> runs;
   if (given_basis) runs.push_back({0.0, "none", false, 0.0, ConeForm::kSlipSpeed, true});
   if (has_guess && rate_form) {
@@ -360,11 +381,14 @@ std::vector<Run> PlanRuns(bool given_basis, bool has_guess, bool rate_form, bool
   runs.push_back({1e-16, "1e-16", false});
   if (rate_form) {
     runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kSlipSpeed, false, true});
-    if (frictional) runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox, false, true});
+    if (frictional)
+      runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox, false, true});
     runs.push_back({1e-14, "1e-14", false, 0.0, ConeForm::kSlipSpeed, false, true});
   }
-  runs.insert(runs.end(), {{1e-14, "1e-14", false}, {1e-12, "1e-12", false},
-                           {1e-16, "1e-16", false, 1e-2}, {1e-16, "1e-16", false, 1e-1}});
+  runs.insert(runs.end(), {{1e-14, "1e-14", false},
+                           {1e-12, "1e-12", false},
+                           {1e-16, "1e-16", false, 1e-2},
+                           {1e-16, "1e-16", false, 1e-1}});
   if (frictional) {
     runs.insert(runs.end(), {{1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox},
                              {1e-16, "1e-16", false, 1e-2, ConeForm::kShiftedBox}});
@@ -372,8 +396,11 @@ std::vector<Run> PlanRuns(bool given_basis, bool has_guess, bool rate_form, bool
   if (rate_form) runs.push_back({1e-16, "1e-16", false, 1e-2, ConeForm::kSlipSpeed, false, true});
   if (box_rate_first && rate_form && frictional) {
     // The box-form path in the rate form first, after the given basis and the warm start.
-    const auto box_rate = std::find_if(runs.begin(), runs.end(), [](const Run& r) { return r.rate && r.form == ConeForm::kShiftedBox; });
-    const auto first_cold = std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.basis_only && !r.warm; });
+    const auto box_rate = std::find_if(runs.begin(), runs.end(), [](const Run& r) {
+      return r.rate && r.form == ConeForm::kShiftedBox;
+    });
+    const auto first_cold = std::find_if(runs.begin(), runs.end(),
+                                         [](const Run& r) { return !r.basis_only && !r.warm; });
     std::rotate(first_cold, box_rate, box_rate + 1);
   }
   return runs;
@@ -382,16 +409,23 @@ std::vector<Run> PlanRuns(bool given_basis, bool has_guess, bool rate_form, bool
 // What a run did, for the solver's message.
 std::string RunAccount(const Run& run, const lemke_internal::LemkeResult& lemke, double residual) {
   const bool solved = lemke.outcome == lemke_internal::LemkeOutcome::kSolved;
-  const std::string failure = std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")";
-  if (run.basis_only) return "the given basis: " + (solved ? "residual " + Scientific(residual) : failure);
+  const std::string failure =
+      std::string(lemke_internal::ToString(lemke.outcome)) + " (" + lemke.message + ")";
+  if (run.basis_only)
+    return "the given basis: " + (solved ? "residual " + Scientific(residual) : failure);
   const bool perturbed = run.perturbation > 0.0;
-  return std::string(run.rate ? "rate form, " : "") + (run.form == ConeForm::kShiftedBox ? "box form, " : "") +
-         (run.warm ? std::string("warm") : perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) +
-         ", ties " + run.name + ": " + (solved ? std::string("solved") : failure) + " after " + std::to_string(lemke.pivots) + " pivots";
+  return std::string(run.rate ? "rate form, " : "") +
+         (run.form == ConeForm::kShiftedBox ? "box form, " : "") +
+         (run.warm    ? std::string("warm")
+          : perturbed ? "perturbed " + Scientific(run.perturbation)
+                      : std::string("cold")) +
+         ", ties " + run.name + ": " + (solved ? std::string("solved") : failure) + " after " +
+         std::to_string(lemke.pivots) + " pivots";
 }
 
 template <class Problem>
-SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o, const std::string& name) {
+SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o,
+                       const std::string& name) {
   const auto start = std::chrono::steady_clock::now();
   const int unknowns = static_cast<int>(k.h.rows());
   if (unknowns == 0) {  // no contact: nothing to pivot, the empty impulse vector solves it
@@ -409,12 +443,15 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   std::string history;
   int pivots = 0;
   const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
-                         problem.initial_guess.allFinite() && problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
+                         problem.initial_guess.allFinite() &&
+                         problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
   const double velocity_scale = o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale : 1.0;
-  const Eigen::VectorXd guess = has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
+  const Eigen::VectorXd guess =
+      has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
   const std::vector<char> given_basis = ExpandBasis(k, InitialBasisOf(problem), slip.enc.variables);
   const bool rate_form = velocity_scale != 1.0;
-  const std::vector<Run> runs = PlanRuns(!given_basis.empty(), has_guess, rate_form, frictional, o.lemke_box_rate_first);
+  const std::vector<Run> runs =
+      PlanRuns(!given_basis.empty(), has_guess, rate_form, frictional, o.lemke_box_rate_first);
   std::optional<Posed> rate_slip, rate_box;  // the rate form, posed when its first run comes
   auto posed_for = [&](const Run& run) -> Posed& {
     const bool is_box = run.form == ConeForm::kShiftedBox;
@@ -430,9 +467,12 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's start and perturbation are set in place
     mlcp.start = run.warm ? guess : Eigen::VectorXd();
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
-    mlcp.perturbation = perturbed ? PerturbationOf(k, posed.enc, o, run.perturbation, posed.velocity_unit) : Eigen::VectorXd();
+    mlcp.perturbation = perturbed
+                            ? PerturbationOf(k, posed.enc, o, run.perturbation, posed.velocity_unit)
+                            : Eigen::VectorXd();
     const int per_row = o.lemke_pivots_per_row > 0 ? o.lemke_pivots_per_row : run.rate ? 200 : 20;
-    const int per_run = static_cast<int>(std::min<long long>(o.max_iterations, 1LL * per_row * posed.enc.variables + 100));
+    const int per_run = static_cast<int>(
+        std::min<long long>(o.max_iterations, 1LL * per_row * posed.enc.variables + 100));
     const lemke_internal::LemkeResult lemke =
         lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);
     pivots += lemke.pivots;
@@ -443,28 +483,35 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     if (!history.empty()) history += "; ";
     history += RunAccount(run, lemke, residual);
     if (perturbed && solved) {
-      history += " (without the perturbation, basic values down to " + Scientific(-lemke.polish_violation) + ")";
+      history += " (without the perturbation, basic values down to " +
+                 Scientific(-lemke.polish_violation) + ")";
       if (residual > o.tolerance) {
         // The perturbed problem's solution, polished by Newton on the given problem. Where
         // the perturbation left its active set right Newton converges from it (34 of the
         // 56 cycling openings at μ = 0.1); elsewhere it stalls near 1e-11 and says so.
         const SolveResult newton = Polish(problem, impulses, o);
-        history += "; Newton polish from it: residual " + Scientific(newton.report.residual) + " after " +
-                   std::to_string(newton.report.iterations) + " iterations";
+        history += "; Newton polish from it: residual " + Scientific(newton.report.residual) +
+                   " after " + std::to_string(newton.report.iterations) + " iterations";
         exact = newton.report.converged();
-        if (newton.report.residual < residual) impulses = newton.impulses, residual = newton.report.residual;
+        if (newton.report.residual < residual)
+          impulses = newton.impulses, residual = newton.report.residual;
       }
     }
-    if (report.status != SolveStatus::kConverged && (result.impulses.size() == 0 || residual < report.residual)) {
+    if (report.status != SolveStatus::kConverged &&
+        (result.impulses.size() == 0 || residual < report.residual)) {
       result.impulses = impulses;
       // The run's basis where the answer is that basis's solution, else the pattern's.
-      const bool basis_answer = solved && run.form == ConeForm::kSlipSpeed && lemke.polish_violation == 0.0 && impulses == posed.t * lemke.z;
-      result.basis = basis_answer ? CompressBasis(k, lemke.z_basic) : BasisOfPattern(k, impulses, velocity_scale);
+      const bool basis_answer = solved && run.form == ConeForm::kSlipSpeed &&
+                                lemke.polish_violation == 0.0 && impulses == posed.t * lemke.z;
+      result.basis = basis_answer ? CompressBasis(k, lemke.z_basic)
+                                  : BasisOfPattern(k, impulses, velocity_scale);
       report.residual = residual;
-      report.status = exact && residual <= o.tolerance ? SolveStatus::kConverged : SolveStatus::kNumericalFailure;
+      report.status = exact && residual <= o.tolerance ? SolveStatus::kConverged
+                                                       : SolveStatus::kNumericalFailure;
     }
     if (run.warm) {
-      history += " (start: " + std::to_string(lemke.start_support) + " basic, " + std::to_string(lemke.start_dropped) + " moves)";
+      history += " (start: " + std::to_string(lemke.start_support) + " basic, " +
+                 std::to_string(lemke.start_dropped) + " moves)";
     }
     if (report.converged() && AboveVelocityBound(k, result.impulses, o, history)) {
       // Not the answer: the next run's answer, converged or not, takes its place.
@@ -479,7 +526,8 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     result = std::move(*too_fast);
   }
   report.iterations = pivots;
-  if (!report.converged() && pivots >= o.max_iterations) report.status = SolveStatus::kIterationLimit;
+  if (!report.converged() && pivots >= o.max_iterations)
+    report.status = SolveStatus::kIterationLimit;
   report.message = "Lemke: " + history;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -9,8 +9,8 @@ namespace unjam {
 class LemkeSolver final : public ContactSolver {
  public:
   std::string Name() const override { return "lemke"; }
-  // 2: the rate form's runs (2026-11-26) come before the later plain runs.
-  // 3: the rate form's runs may take 200 pivots per row (was 100; 2026-11-26).
+  // 2: the rate form's runs come first, before the plain runs.
+  // 3: the rate form's runs may take 200 pivots per row, not 100.
   int AnswerRevision() const override { return 3; }
   SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
   SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;

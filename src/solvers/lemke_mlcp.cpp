@@ -67,7 +67,9 @@ class Tableau {
   const Eigen::VectorXd& Rhs() const { return rhs_; }
   // The polish: the right-hand side of the unperturbed problem.
   void RemovePerturbation(const Mlcp& p) { rhs_.tail(n_) = p.e; }
-  Eigen::VectorXd Column(int var) const { return var == Z0() ? z0_column_ : Eigen::VectorXd(columns_.col(var)); }
+  Eigen::VectorXd Column(int var) const {
+    return var == Z0() ? z0_column_ : Eigen::VectorXd(columns_.col(var));
+  }
   SparseMatrix Basis(const std::vector<int>& basic) const {
     std::vector<Eigen::Triplet<double>> t;
     for (int pos = 0; pos < Rows(); ++pos) {
@@ -77,7 +79,8 @@ class Tableau {
         }
         continue;
       }
-      for (SparseMatrix::InnerIterator it(columns_, basic[pos]); it; ++it) t.emplace_back(it.row(), pos, it.value());
+      for (SparseMatrix::InnerIterator it(columns_, basic[pos]); it; ++it)
+        t.emplace_back(it.row(), pos, it.value());
     }
     SparseMatrix b(Rows(), Rows());
     b.setFromTriplets(t.begin(), t.end());
@@ -85,9 +88,11 @@ class Tableau {
   }
 
  private:
-  static void AddBlock(std::vector<Eigen::Triplet<double>>& t, const SparseMatrix& m, int row0, int col0, double sign) {
+  static void AddBlock(std::vector<Eigen::Triplet<double>>& t, const SparseMatrix& m, int row0,
+                       int col0, double sign) {
     for (int k = 0; k < m.outerSize(); ++k) {
-      for (SparseMatrix::InnerIterator it(m, k); it; ++it) t.emplace_back(row0 + it.row(), col0 + it.col(), sign * it.value());
+      for (SparseMatrix::InnerIterator it(m, k); it; ++it)
+        t.emplace_back(row0 + it.row(), col0 + it.col(), sign * it.value());
     }
   }
   int nf_, n_;
@@ -147,7 +152,8 @@ class BasisInverse {
 class Lemke {
  public:
   Lemke(const Mlcp& p, double tie_tolerance)
-      : problem_(p), tab_(p), nf_(p.NumFree()), n_(p.NumComplementary()), tie_tolerance_(tie_tolerance), inverse_(nf_) {}
+      : problem_(p), tab_(p), nf_(p.NumFree()), n_(p.NumComplementary()),
+        tie_tolerance_(tie_tolerance), inverse_(nf_) {}
 
   LemkeResult Run(int max_pivots) {
     basic_.resize(tab_.Rows());
@@ -162,7 +168,8 @@ class Lemke {
     // β = B⁻¹ rhs are the basic values at z₀ = 0, and they rise by B⁻¹d per unit of z₀.
     const Eigen::VectorXd rise = -inverse_.Solve(tab_.Column(tab_.Z0()));
     int row = FirstBlockingRow(rise);
-    if (row == -2) return Fail(LemkeOutcome::kSingularBasis, "the covering vector does not cover the start");
+    if (row == -2)
+      return Fail(LemkeOutcome::kSingularBasis, "the covering vector does not cover the start");
     if (row < 0) return Finish();
     int entering = tab_.Z0();
     Eigen::VectorXd alpha = -rise;
@@ -172,16 +179,19 @@ class Lemke {
       if (leaving == tab_.Z0()) return Finish();
       basis_hash_ ^= VariableKey(leaving) ^ VariableKey(entering);
       if (++visits_[basis_hash_] > kVisitsOfACycle) {
-        return Fail(LemkeOutcome::kCycle, "a basis came back " + std::to_string(kVisitsOfACycle) + " times: the path cycles");
+        return Fail(LemkeOutcome::kCycle, "a basis came back " + std::to_string(kVisitsOfACycle) +
+                                              " times: the path cycles");
       }
-      if (result_.pivots >= max_pivots) return Fail(LemkeOutcome::kPivotLimit, "pivot limit reached");
+      if (result_.pivots >= max_pivots)
+        return Fail(LemkeOutcome::kPivotLimit, "pivot limit reached");
       if (inverse_.Updates() >= kRefactorInterval && !Refactorise()) {
         return Fail(LemkeOutcome::kSingularBasis, "a basis became numerically singular");
       }
       entering = tab_.Complement(leaving);
       alpha = inverse_.Solve(tab_.Column(entering));
       row = RatioTest(alpha);
-      if (row < 0) return Fail(LemkeOutcome::kRay, "ray termination: no complementary solution on the path");
+      if (row < 0)
+        return Fail(LemkeOutcome::kRay, "ray termination: no complementary solution on the path");
     }
   }
 
@@ -204,7 +214,8 @@ class Lemke {
 
   // Mlcp::given_basis, solved as it is.
   LemkeResult SolveGivenBasis() {
-    if (static_cast<int>(problem_.given_basis.size()) != n_) return Fail(LemkeOutcome::kSingularBasis, "the given basis has the wrong size");
+    if (static_cast<int>(problem_.given_basis.size()) != n_)
+      return Fail(LemkeOutcome::kSingularBasis, "the given basis has the wrong size");
     for (int i = 0; i < n_; ++i) basic_[nf_ + i] = problem_.given_basis[i] ? tab_.Z(i) : tab_.W(i);
     if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the given basis is singular");
     if (Finish().outcome != LemkeOutcome::kSolved) return result_;
@@ -221,7 +232,8 @@ class Lemke {
     const double floor = 1e-12 * z.maxCoeff();
     std::vector<int> order;
     for (int i = 0; i < n_; ++i) {
-      if (z[i] > floor) order.push_back(i); else z[i] = 0.0;
+      if (z[i] > floor) order.push_back(i);
+      else z[i] = 0.0;
     }
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return z[a] > z[b]; });
     std::vector<int> position(tab_.Z0() + 1, -1);
@@ -263,7 +275,8 @@ class Lemke {
         z[j] -= theta;
         for (int pos = nf_; pos < tab_.Rows(); ++pos) {
           const int var = basic_[pos];
-          if (var >= tab_.Z(0)) z[var - tab_.Z(0)] = std::max(0.0, z[var - tab_.Z(0)] + theta * alpha[pos]);
+          if (var >= tab_.Z(0))
+            z[var - tab_.Z(0)] = std::max(0.0, z[var - tab_.Z(0)] + theta * alpha[pos]);
         }
         ++result_.start_dropped;
         if (limit < 0) {
@@ -296,7 +309,9 @@ class Lemke {
     for (int i = 0; i < n_; ++i) {
       if (z_basic[i]) tau = std::max(tau, std::abs(w[i]));
     }
-    tau = tau > 0.0 ? tau : w.size() > 0 && w.cwiseAbs().maxCoeff() > 0.0 ? 1e-12 * w.cwiseAbs().maxCoeff() : 1.0;
+    tau = tau > 0.0                                       ? tau
+          : w.size() > 0 && w.cwiseAbs().maxCoeff() > 0.0 ? 1e-12 * w.cwiseAbs().maxCoeff()
+                                                          : 1.0;
     Eigen::VectorXd d(n_);
     for (int i = 0; i < n_; ++i) d[i] = z_basic[i] ? -w[i] : std::max(w[i], tau) - w[i];
     tab_.SetCovering(d);
@@ -308,7 +323,8 @@ class Lemke {
     const Eigen::SparseMatrix<double, Eigen::RowMajor> d_rows = problem_.d;
     Eigen::VectorXd diagonal = problem_.e_matrix.diagonal();
     for (int j = 0; j < n_; ++j) {
-      for (SparseMatrix::InnerIterator it(problem_.p, j); it; ++it) diagonal[j] += d_rows.coeff(j, it.row()) * it.value();
+      for (SparseMatrix::InnerIterator it(problem_.p, j); it; ++it)
+        diagonal[j] += d_rows.coeff(j, it.row()) * it.value();
     }
     return diagonal;
   }
@@ -316,7 +332,9 @@ class Lemke {
   // Zobrist keys (splitmix64 of the variable's index): the basis's hash is the XOR of the
   // keys of its variables, so a pivot updates it in O(1). A collision among the at most
   // 10⁶ bases of a run has probability below 10⁻⁷.
-  static std::uint64_t VariableKey(int variable) { return solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(variable)); }
+  static std::uint64_t VariableKey(int variable) {
+    return solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(variable));
+  }
 
   bool Refactorise() {
     ++result_.factorisations;
@@ -327,7 +345,8 @@ class Lemke {
 
   void Pivot(int row, int entering, Eigen::VectorXd alpha) {
     // (The first pivot, z₀ entering, has α < 0 and β < 0 in its row.)
-    const double t = alpha[row] > 0.0 ? std::max(beta_[row], 0.0) / alpha[row] : beta_[row] / alpha[row];
+    const double t =
+        alpha[row] > 0.0 ? std::max(beta_[row], 0.0) / alpha[row] : beta_[row] / alpha[row];
     beta_.tail(n_) -= t * alpha.tail(n_);  // the free values are recomputed at Finish
     beta_[row] = t;
     basic_[row] = entering;
@@ -412,7 +431,8 @@ class Lemke {
   LemkeResult Fail(LemkeOutcome outcome, const std::string& message) {
     result_.outcome = outcome;
     result_.message = message;
-    result_.x = beta_.size() == tab_.Rows() ? Eigen::VectorXd(beta_.head(nf_)) : Eigen::VectorXd::Zero(nf_);
+    result_.x =
+        beta_.size() == tab_.Rows() ? Eigen::VectorXd(beta_.head(nf_)) : Eigen::VectorXd::Zero(nf_);
     result_.z = Eigen::VectorXd::Zero(n_);
     return result_;
   }
@@ -423,15 +443,15 @@ class Lemke {
   double tie_tolerance_;
   std::uint64_t basis_hash_ = 0;  // of the bases after z₀ entered (the start's is not needed)
   // Visits per basis. In floating point a path may pass a basis twice and then leave it
-  // another way (its values differ by round-off, so the ties fall differently), and go
-  // on to a solution; kVisitsOfACycle visits are taken as a cycle. Measured (2026-11-26):
-  // one path of the 400-disk pile's top shifts passed a basis 19 times and then solved the
-  // step, so fewer would cost answers; and fewer would save little, since the cycling
-  // paths there were detected 80–5 000 pivots after their first repeat, of 11 000–22 000.
+  // another way (its values differ by round-off, so the ties fall differently), and go on to
+  // a solution; kVisitsOfACycle visits are taken as a cycle. Measured: one path of the
+  // 400-disk pile's top shifts passed a basis 19 times and then solved the step, so fewer
+  // would cost answers; and fewer would save little, since the cycling paths there were
+  // detected 80–5 000 pivots after their first repeat, of 11 000–22 000.
   static constexpr int kVisitsOfACycle = 20;
   std::unordered_map<std::uint64_t, int> visits_;
-  std::vector<int> basic_;      // the variable basic at each position
-  Eigen::VectorXd beta_;        // their values
+  std::vector<int> basic_;  // the variable basic at each position
+  Eigen::VectorXd beta_;    // their values
   BasisInverse inverse_;
   LemkeResult result_;
 };

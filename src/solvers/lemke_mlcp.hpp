@@ -58,13 +58,13 @@
 namespace unjam::lemke_internal {
 
 struct Mlcp {
-  Eigen::SparseMatrix<double> p;   // nf × n
-  Eigen::VectorXd x0;              // nf
-  Eigen::SparseMatrix<double> d;   // n × nf
+  Eigen::SparseMatrix<double> p;         // nf × n
+  Eigen::VectorXd x0;                    // nf
+  Eigen::SparseMatrix<double> d;         // n × nf
   Eigen::SparseMatrix<double> e_matrix;  // n × n, the E above
-  Eigen::VectorXd e;               // n
-  Eigen::VectorXd start;           // n or empty: a warm start z* ≥ 0 (above)
-  Eigen::VectorXd perturbation;    // n or empty: the path is followed for e + perturbation (below)
+  Eigen::VectorXd e;                     // n
+  Eigen::VectorXd start;                 // n or empty: a warm start z* ≥ 0 (above)
+  Eigen::VectorXd perturbation;  // n or empty: the path is followed for e + perturbation (below)
   // n or empty: a complementary basis (1: z_i basic, 0: w_i basic), e.g. the final basis
   // of a nearby problem's answer. If given, there is no path: that basis is solved for
   // this problem and its basic values clamped at zero (LemkeResult::polish_violation says
@@ -81,15 +81,15 @@ const char* ToString(LemkeOutcome outcome);
 
 struct LemkeResult {
   LemkeOutcome outcome = LemkeOutcome::kSingularBasis;
-  Eigen::VectorXd x;               // free variables
-  Eigen::VectorXd z;               // complementary variables
+  Eigen::VectorXd x;  // free variables
+  Eigen::VectorXd z;  // complementary variables
   int pivots = 0;
   int factorisations = 0;
-  int start_support = 0;           // warm start: complementary variables of the reduced guess
-  int start_dropped = 0;           //   and those of the guess zeroed to reach it
-  double polish_violation = 0.0;   // perturbed runs: −min of the basic values without the perturbation, or 0
-                                   // (given_basis: −min of that basis's values)
-  std::vector<char> z_basic;       // solved: per complementary variable, 1 if z_i is in the final basis
+  int start_support = 0;          // warm start: complementary variables of the reduced guess
+  int start_dropped = 0;          //   and those of the guess zeroed to reach it
+  double polish_violation = 0.0;  // perturbed runs: −min of the basic values without the
+                                  // perturbation, or 0 (given_basis: −min of that basis's values)
+  std::vector<char> z_basic;  // solved: per complementary variable, 1 if z_i is in the final basis
   std::string message;
 };
 

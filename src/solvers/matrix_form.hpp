@@ -16,9 +16,9 @@
 namespace unjam::solvers_internal {
 
 struct MatrixForm {
-  int per_contact = 2;             // unknowns per contact
-  Eigen::SparseMatrix<double> h;   // unknowns × dofs
-  Eigen::SparseMatrix<double> g;   // dofs × unknowns: M⁻¹Hᵀ, or W
+  int per_contact = 2;            // unknowns per contact
+  Eigen::SparseMatrix<double> h;  // unknowns × dofs
+  Eigen::SparseMatrix<double> g;  // dofs × unknowns: M⁻¹Hᵀ, or W
   Eigen::VectorXd v_free;
   Eigen::VectorXd offset;
   std::vector<ContactLaw> laws;

@@ -71,8 +71,8 @@ struct LocalValue {
   LocalJacobian jacobian;
 };
 
-LocalValue AlartCurnier(const ContactLaw& c, double rho, bool frictional,
-                        const Eigen::Vector2d& r, const Eigen::Vector2d& u) {
+LocalValue AlartCurnier(const ContactLaw& c, double rho, bool frictional, const Eigen::Vector2d& r,
+                        const Eigen::Vector2d& u) {
   LocalValue out;
   LocalJacobian& J = out.jacobian;
   if (rho == 0.0) {  // no degrees of freedom on either side: the contact cannot act
@@ -155,7 +155,8 @@ Evaluation Evaluate(const Operators& op, const Eigen::VectorXd& r, const Eigen::
 
 // The augmented Newton matrix of the subproblem. Every structural entry is emitted, zero
 // or not, so that the sparsity pattern (and UMFPACK's symbolic analysis) never changes.
-SparseMatrix NewtonMatrix(const Operators& op, const std::vector<LocalJacobian>& local, double epsilon) {
+SparseMatrix NewtonMatrix(const Operators& op, const std::vector<LocalJacobian>& local,
+                          double epsilon) {
   const int nd = op.NumDofs();
   const int nu = op.NumUnknowns();
   const int m = op.per_contact;
@@ -172,7 +173,8 @@ SparseMatrix NewtonMatrix(const Operators& op, const std::vector<LocalJacobian>&
     for (SparseMatrix::InnerIterator it(op.h, dof); it; ++it) {
       const int k = static_cast<int>(it.row()) / m;
       const int j = static_cast<int>(it.row()) % m;
-      for (int i = 0; i < m; ++i) t.emplace_back(nd + k * m + i, dof, local[k].b(i, j) * it.value());
+      for (int i = 0; i < m; ++i)
+        t.emplace_back(nd + k * m + i, dof, local[k].b(i, j) * it.value());
     }
   }
   for (int k = 0; k < op.NumContacts(); ++k) {
@@ -202,7 +204,8 @@ constexpr double kSubproblemReduction = 1e-3;  // a subproblem is solved when θ
 constexpr int kStallIterations = 15;  // Newton iterations without halving the best residual
 constexpr int kProbeIterations = 30;  // Newton iterations of the probe from a warm start
 constexpr int kMaxRounds = 4;         // NSGS warm-up + Newton rounds
-constexpr Eigen::Index kMetisRows = 10000;  // Newton systems at least this large are ordered by METIS
+constexpr Eigen::Index kMetisRows =
+    10000;  // Newton systems at least this large are ordered by METIS
 
 struct Iterate {
   Eigen::VectorXd impulses;
@@ -233,9 +236,13 @@ class NewtonPhase {
       Eigen::VectorXd step;
       double alpha = 1.0;
       Evaluation trial;
-      if (!Direction(eval, epsilon, step) || !LineSearch(r, center, epsilon, step, eval, alpha, trial)) {
+      if (!Direction(eval, epsilon, step) ||
+          !LineSearch(r, center, epsilon, step, eval, alpha, trial)) {
         // A stronger proximal term makes the subproblem better conditioned.
-        if (epsilon >= kEpsilonMax) { failure = "line search failed at the largest proximal weight"; break; }
+        if (epsilon >= kEpsilonMax) {
+          failure = "line search failed at the largest proximal weight";
+          break;
+        }
         epsilon = std::min(epsilon * 100.0, kEpsilonMax);
         center = r;
         eval = Evaluate(op_, r, center, epsilon);
@@ -247,7 +254,10 @@ class NewtonPhase {
       eval = std::move(trial);
       ++inner;
       const double res = ComputeResidual(p_, r).residual;
-      if (!std::isfinite(res)) { failure = "non-finite impulses"; break; }
+      if (!std::isfinite(res)) {
+        failure = "non-finite impulses";
+        break;
+      }
       if (res < best.residual) best = {r, res};
       if (best.residual <= 0.5 * progress_mark) {
         progress_mark = best.residual;
@@ -296,7 +306,8 @@ class NewtonPhase {
                   Evaluation& trial) const {
     for (int b = 0; b < kMaxBacktracks; ++b, alpha *= 0.5) {
       trial = Evaluate(op_, r + alpha * step, center, epsilon);
-      if (std::isfinite(trial.merit) && trial.merit <= (1.0 - 2.0 * kArmijo * alpha) * eval.merit) return true;
+      if (std::isfinite(trial.merit) && trial.merit <= (1.0 - 2.0 * kArmijo * alpha) * eval.merit)
+        return true;
     }
     return false;
   }
@@ -308,8 +319,12 @@ class NewtonPhase {
   bool analysed_ = false;
   int iterations_ = 0;
 };
-SolveResult SolveWithNsgs(const ContactProblem& p, const SolverOptions& o) { return NsgsSolver().Solve(p, o); }
-SolveResult SolveWithNsgs(const DelassusProblem& p, const SolverOptions& o) { return NsgsSolver().SolveDelassus(p, o); }
+SolveResult SolveWithNsgs(const ContactProblem& p, const SolverOptions& o) {
+  return NsgsSolver().Solve(p, o);
+}
+SolveResult SolveWithNsgs(const DelassusProblem& p, const SolverOptions& o) {
+  return NsgsSolver().SolveDelassus(p, o);
+}
 
 // NSGS from `start` to `tolerance`: the warm-up that brings Newton into its basin.
 template <class Problem>
@@ -361,7 +376,8 @@ Iterate Start(const DelassusProblem& p, const SolverOptions&, const std::string&
   return {r, ComputeResidual(p, r).residual};
 }
 
-Iterate Start(const ContactProblem& p, const SolverOptions& options, const std::string& name, SolveReport& report) {
+Iterate Start(const ContactProblem& p, const SolverOptions& options, const std::string& name,
+              SolveReport& report) {
   Iterate given{InitialImpulses(p), 0.0};
   given.residual = ComputeResidual(p, given.impulses).residual;
   if (!NearlyFrictionless(p)) return given;
@@ -393,7 +409,8 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
   // 245 000 sweeps; docs/performance.md). Where it stalls instead (most dynamic responses: Newton
   // from the static state wanders), the rounds below start from the warm start as if it
   // had not run, since they do better from there than from its stalled point.
-  if (options.newton_warm_probe && p.initial_guess.size() == p.NumUnknowns() && best.residual > options.tolerance) {
+  if (options.newton_warm_probe && p.initial_guess.size() == p.NumUnknowns() &&
+      best.residual > options.tolerance) {
     int probe_budget = std::min(budget, kProbeIterations);
     budget -= probe_budget;
     const Iterate probed = newton.Run(best, probe_budget, failure);
@@ -402,7 +419,8 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
   }
   Iterate from = given;
   double warmup = options.newton_warmup_tolerance;
-  for (int round = 0; round < kMaxRounds && best.residual > options.tolerance && budget > 0; ++round) {
+  for (int round = 0; round < kMaxRounds && best.residual > options.tolerance && budget > 0;
+       ++round) {
     if (from.residual > warmup) {
       const Iterate warmed = WarmUp(p, options, from, warmup, report, sweeps);
       if (warmed.residual < from.residual) from = warmed;
@@ -429,7 +447,9 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
     report.status = SolveStatus::kIterationLimit;
     report.message = "Newton stalled or reached its iteration limit before the tolerance";
   }
-  if (sweeps > 0) report.message += (report.message.empty() ? "" : "; ") + std::to_string(sweeps) + " NSGS warm-up sweeps";
+  if (sweeps > 0)
+    report.message +=
+        (report.message.empty() ? "" : "; ") + std::to_string(sweeps) + " NSGS warm-up sweeps";
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

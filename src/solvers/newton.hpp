@@ -9,7 +9,7 @@ namespace unjam {
 class NewtonSolver final : public ContactSolver {
  public:
   std::string Name() const override { return "newton"; }
-  // 2: from a warm start, Newton alone first (the probe; 2026-11-27).
+  // 2: from a warm start, Newton alone first (the probe).
   int AnswerRevision() const override { return 2; }
   SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
   SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;

@@ -61,11 +61,11 @@ enum class Variables { kNone, kEdges, kNormal, kFreeNormal };
 // scaling, and kResolution keeps the impulses NLopt can tell from 0 far below any tolerance
 // (Luksan's L-BFGS sets every variable within 1e-8 of its bound (absolute) onto it).
 struct EdgeMap {
-  SparseMatrix e;              // NumUnknowns × variables
-  std::vector<double> lower;   // per variable
-  std::vector<Variables> kind; // per contact
-  std::vector<int> first;      // per contact: its first variable
-  std::vector<double> unit;    // per contact
+  SparseMatrix e;               // NumUnknowns × variables
+  std::vector<double> lower;    // per variable
+  std::vector<Variables> kind;  // per contact
+  std::vector<int> first;       // per contact: its first variable
+  std::vector<double> unit;     // per contact
 };
 
 constexpr double kResolution = 1e6;
@@ -85,7 +85,8 @@ EdgeMap MakeEdgeMap(const ContactLayout& p, double impulse_scale) {
     const double curvature = edges ? w[0] + c.mu * c.mu * w[1] : w[0];
     if (!(curvature > 0.0)) continue;
     map.kind[k] = edges ? Variables::kEdges
-                        : (c.kind == ConstraintKind::kBilateral ? Variables::kFreeNormal : Variables::kNormal);
+                        : (c.kind == ConstraintKind::kBilateral ? Variables::kFreeNormal
+                                                                : Variables::kNormal);
     map.first[k] = static_cast<int>(map.lower.size());
     map.unit[k] = impulse_scale / (kResolution * std::sqrt(curvature));
     const double lower = map.kind[k] == Variables::kFreeNormal ? -HUGE_VAL : 0.0;
@@ -132,8 +133,8 @@ using NloptHandle = std::unique_ptr<std::remove_pointer_t<nlopt_opt>, NloptDelet
 class Delassus {
  public:
   virtual ~Delassus() = default;
-  virtual Eigen::VectorXd Apply(const Eigen::VectorXd& r) const = 0;   // W r
-  virtual Eigen::VectorXd Posed(const Eigen::VectorXd& r) const = 0;   // W r + q
+  virtual Eigen::VectorXd Apply(const Eigen::VectorXd& r) const = 0;  // W r
+  virtual Eigen::VectorXd Posed(const Eigen::VectorXd& r) const = 0;  // W r + q
 };
 
 // Body form: W is never formed, ũ = H (v_free + M⁻¹ Hᵀ r) + offset.
@@ -142,7 +143,9 @@ class BodyDelassus final : public Delassus {
   explicit BodyDelassus(const ContactProblem& p)
       : h_(AssembleJacobian(p)), ht_(h_.transpose()), inverse_mass_(InverseMassDiagonal(p)),
         free_velocity_(FreeVelocityVector(p)), offset_(VelocityOffset(p)) {}
-  Eigen::VectorXd Apply(const Eigen::VectorXd& r) const override { return h_ * inverse_mass_.cwiseProduct(ht_ * r); }
+  Eigen::VectorXd Apply(const Eigen::VectorXd& r) const override {
+    return h_ * inverse_mass_.cwiseProduct(ht_ * r);
+  }
   Eigen::VectorXd Posed(const Eigen::VectorXd& r) const override {
     return h_ * (free_velocity_ + inverse_mass_.cwiseProduct(ht_ * r)) + offset_;
   }
@@ -171,7 +174,7 @@ struct Run {
   const Eigen::VectorXd* shift = nullptr;
   nlopt_opt opt = nullptr;
   double tolerance = 0.0;
-  Eigen::VectorXd y0, r0, u0, g0;   // start, its impulses, posed velocities and gradient
+  Eigen::VectorXd y0, r0, u0, g0;  // start, its impulses, posed velocities and gradient
   double sigma = 1.0;
   Eigen::VectorXd best_y;
   double best_residual = 0.0;
@@ -184,10 +187,13 @@ double Objective(unsigned n, const double* x, double* gradient, void* data);
 class NloptStep final : public ConvexStepSolver {
  public:
   template <class Problem>
-  NloptStep(const Problem& p, const SolverOptions& o, double impulse_scale, std::unique_ptr<const Delassus> delassus)
-      : layout_(LayoutOf(p)), o_(o), law_(p), map_(MakeEdgeMap(layout_, impulse_scale)), w_(std::move(delassus)) {}
+  NloptStep(const Problem& p, const SolverOptions& o, double impulse_scale,
+            std::unique_ptr<const Delassus> delassus)
+      : layout_(LayoutOf(p)), o_(o), law_(p), map_(MakeEdgeMap(layout_, impulse_scale)),
+        w_(std::move(delassus)) {}
 
-  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start, double tolerance) override;
+  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
+                   double tolerance) override;
   std::string IterationName() const override { return "NLopt evaluations"; }
 
   // W r, matrix-free.
@@ -265,7 +271,8 @@ nlopt_result NloptStep::RunOnce(Run& run, int evaluations_left) const {
   return nlopt_optimize(run.opt, x.data(), &value);
 }
 
-ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start, double tolerance) {
+ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
+                            double tolerance) {
   ConvexStep out;
   Run run;
   run.step = this;
@@ -292,7 +299,8 @@ ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd&
   out.library_status = std::string("NLopt ") + nlopt_result_to_string(result);
   if (!run.reached && result != NLOPT_MAXEVAL_REACHED) {
     char detail[96];
-    std::snprintf(detail, sizeof detail, ", a run without progress (convex residual %.3g)", run.best_residual);
+    std::snprintf(detail, sizeof detail, ", a run without progress (convex residual %.3g)",
+                  run.best_residual);
     out.library_status += detail;
   }
   return out;

@@ -35,12 +35,12 @@ struct Row {
   double nx, ny;
   double arm_i, arm_j;
   double cell_arm;
-  double rhs_n;            // ũ_n = n·(v_j − v_i) + c λ + rhs_n
+  double rhs_n;  // ũ_n = n·(v_j − v_i) + c λ + rhs_n
   double bias_t;
-  double inv_wnn, inv_wtt; // 1 / W_nn, 1 / W_tt
-  double mass_i, mass_j;   // inverse masses
-  double rot_i, rot_j;     // inverse inertia × arm
-  double mu;               // < 0 marks a bilateral contact
+  double inv_wnn, inv_wtt;  // 1 / W_nn, 1 / W_tt
+  double mass_i, mass_j;    // inverse masses
+  double rot_i, rot_j;      // inverse inertia × arm
+  double mu;                // < 0 marks a bilateral contact
 };
 
 struct Body {
@@ -67,7 +67,10 @@ BodyGraph MakeBodyGraph(const ContactProblem& p) {
   BodyGraph g;
   g.start.assign(nb + 1, 0);
   for (const ProblemContact& c : p.contacts) {
-    if (c.body_i >= 0 && c.body_j >= 0) { ++g.start[c.body_i + 1]; ++g.start[c.body_j + 1]; }
+    if (c.body_i >= 0 && c.body_j >= 0) {
+      ++g.start[c.body_i + 1];
+      ++g.start[c.body_j + 1];
+    }
   }
   for (int b = 0; b < nb; ++b) g.start[b + 1] += g.start[b];
   g.adjacent.resize(g.start[nb]);
@@ -123,11 +126,13 @@ Layout LocalLayout(const ContactProblem& p) {
   for (int slot = 0; slot < nb; ++slot) layout.body_slot[order[slot]] = slot;
   auto key = [&](int k) {
     const ProblemContact& c = p.contacts[k];
-    return std::min(c.body_i >= 0 ? layout.body_slot[c.body_i] : nb, c.body_j >= 0 ? layout.body_slot[c.body_j] : nb);
+    return std::min(c.body_i >= 0 ? layout.body_slot[c.body_i] : nb,
+                    c.body_j >= 0 ? layout.body_slot[c.body_j] : nb);
   };
   layout.contact_at.resize(p.NumContacts());
   std::iota(layout.contact_at.begin(), layout.contact_at.end(), 0);
-  std::stable_sort(layout.contact_at.begin(), layout.contact_at.end(), [&](int a, int b) { return key(a) < key(b); });
+  std::stable_sort(layout.contact_at.begin(), layout.contact_at.end(),
+                   [&](int a, int b) { return key(a) < key(b); });
   return layout;
 }
 
@@ -166,7 +171,8 @@ std::vector<Row> MakeRows(const ContactProblem& p, const Layout& layout) {
     const double ij = c.body_j >= 0 && p.frictional ? p.inv_inertia[c.body_j] : 0.0;
     r.rot_i = ii * c.arm_i;
     r.rot_j = ij * c.arm_j;
-    const double wnn = r.mass_i + r.mass_j + (p.cell ? r.cell_arm * r.cell_arm * p.cell->inv_mass : 0.0);
+    const double wnn =
+        r.mass_i + r.mass_j + (p.cell ? r.cell_arm * r.cell_arm * p.cell->inv_mass : 0.0);
     const double wtt = r.mass_i + r.mass_j + r.rot_i * c.arm_i + r.rot_j * c.arm_j;
     r.inv_wnn = wnn > 0.0 ? 1.0 / wnn : 0.0;
     r.inv_wtt = wtt > 0.0 ? 1.0 / wtt : 0.0;
@@ -208,7 +214,8 @@ State InitialState(const ContactProblem& p, const Layout& layout, int dummies = 
   }
   const VelocityState v = EndVelocityState(p, Impulses(p, layout, s));
   s.body.resize(p.NumBodies() + dummies, Body{0.0, 0.0, 0.0});
-  for (int b = 0; b < p.NumBodies(); ++b) s.body[layout.body_slot[b]] = {v.body[b][0], v.body[b][1], v.body[b][2]};
+  for (int b = 0; b < p.NumBodies(); ++b)
+    s.body[layout.body_slot[b]] = {v.body[b][0], v.body[b][1], v.body[b][2]};
   s.cell_rate = v.cell_rate;
   s.cell_inv_mass = p.cell ? p.cell->inv_mass : 0.0;
   return s;
@@ -266,7 +273,8 @@ inline double UpdateContact(const Row& r, int k, double omega, State& s, double&
 template <bool kFrictional>
 void Sweep(const std::vector<Row>& rows, const std::vector<std::uint32_t>& order, double omega,
            State& s) {
-  for (std::uint32_t k : order) UpdateContact<kFrictional>(rows[k], static_cast<int>(k), omega, s, s.cell_rate);
+  for (std::uint32_t k : order)
+    UpdateContact<kFrictional>(rows[k], static_cast<int>(k), omega, s, s.cell_rate);
 }
 
 // Domains for threads (nsgs_domains.hpp): the contacts inside each (by layout position),
@@ -335,15 +343,17 @@ struct ListOrder {
 };
 
 ListOrder MakeListOrder(std::vector<std::uint32_t> positions, std::uint64_t seed, int list) {
-  ListOrder l{std::move(positions), {}, {seed ^ solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(list) + 1)}};
+  ListOrder l{std::move(positions),
+              {},
+              {seed ^ solvers_internal::SplitMix64Hash(static_cast<std::uint64_t>(list) + 1)}};
   l.order.resize(l.positions.size());
   std::iota(l.order.begin(), l.order.end(), 0u);
   return l;
 }
 
 template <bool kFrictional>
-void SweepList(const std::vector<Row>& rows, ListOrder& list, SweepOrder kind, int index, double omega,
-               State& s, double& cell_rate) {
+void SweepList(const std::vector<Row>& rows, ListOrder& list, SweepOrder kind, int index,
+               double omega, State& s, double& cell_rate) {
   solvers_internal::NextOrder(kind, index, list.rng, list.order);
   for (std::uint32_t i : list.order) {
     const std::uint32_t k = list.positions[i];
@@ -379,7 +389,8 @@ class DomainSolve {
         rows_(DomainRows(p, layout_, domains_)), state_(InitialState(p, layout_, threads_ + 1)),
         evaluate_(p), errors_(p.NumContacts()), cell_change_(threads_, 0.0),
         team_(threads_, [this](int t) { Work(t); }) {
-    for (int t = 0; t < threads_; ++t) lists_.push_back(MakeListOrder(std::move(domains_.inside[t]), o.seed, t));
+    for (int t = 0; t < threads_; ++t)
+      lists_.push_back(MakeListOrder(std::move(domains_.inside[t]), o.seed, t));
     lists_.push_back(MakeListOrder(std::move(domains_.between), o.seed, threads_));
   }
 
@@ -388,7 +399,8 @@ class DomainSolve {
     cell_start_ = state_.cell_rate;
     team_.Run();
     for (double change : cell_change_) state_.cell_rate += change;
-    SweepList<kFrictional>(rows_, lists_[threads_], o_.sweep_order, index, o_.relaxation, state_, state_.cell_rate);
+    SweepList<kFrictional>(rows_, lists_[threads_], o_.sweep_order, index, o_.relaxation, state_,
+                           state_.cell_rate);
   }
 
   double Residual() {
@@ -435,7 +447,8 @@ class DomainSolve {
 };
 
 // NSGS on one thread: one order over all contacts (sweeps.hpp's RunSweeps).
-void SolveOnOneThread(const ContactProblem& p, const SolverOptions& o, const Layout& layout, SolveResult& result) {
+void SolveOnOneThread(const ContactProblem& p, const SolverOptions& o, const Layout& layout,
+                      SolveResult& result) {
   const std::vector<Row> rows = MakeRows(p, layout);
   State state = InitialState(p, layout);
   const ResidualEvaluator evaluate(p);
@@ -449,10 +462,12 @@ void SolveOnOneThread(const ContactProblem& p, const SolverOptions& o, const Lay
 }
 
 template <bool kFrictional>
-void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layout& base, SolveResult& result) {
+void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layout& base,
+                    SolveResult& result) {
   DomainSolve<kFrictional> solve(p, o, base);
-  solvers_internal::RunIndexedSweeps(p.NumContacts(), o, [&](int i) { solve.Sweep(i); }, [&] { return solve.Residual(); },
-                                     result.report);
+  solvers_internal::RunIndexedSweeps(
+      p.NumContacts(), o, [&](int i) { solve.Sweep(i); }, [&] { return solve.Residual(); },
+      result.report);
   result.impulses = solve.Impulses();
 }
 
@@ -464,7 +479,8 @@ SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& opti
   const Layout layout = MakeLayout(p, options.sweep_order);
   SolveResult result;
   result.report.backend = Name();
-  if (options.threads < 2 || p.NumContacts() < kParallelContacts) SolveOnOneThread(p, options, layout, result);
+  if (options.threads < 2 || p.NumContacts() < kParallelContacts)
+    SolveOnOneThread(p, options, layout, result);
   else if (p.frictional) SolveInDomains<true>(p, options, layout, result);
   else SolveInDomains<false>(p, options, layout, result);
   result.report.seconds =

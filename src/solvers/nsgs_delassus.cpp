@@ -49,7 +49,8 @@ bool Sliding(const Eigen::Matrix2d& a, const Eigen::Vector2d& b, double mu, Eige
 }
 
 // Exact solution of u = A r + b under the law of one contact.
-Eigen::Vector2d SolveLocal(const Eigen::Matrix2d& a, const Eigen::Vector2d& b, const ContactLaw& law) {
+Eigen::Vector2d SolveLocal(const Eigen::Matrix2d& a, const Eigen::Vector2d& b,
+                           const ContactLaw& law) {
   if (!(a(0, 0) > 0.0)) return Eigen::Vector2d::Zero();  // r cannot change its own u_n
   if (law.kind == ConstraintKind::kBilateral) return Eigen::Vector2d(-b[0] / a(0, 0), 0.0);
   if (b[0] >= 0.0) return Eigen::Vector2d::Zero();
@@ -70,7 +71,8 @@ class DelassusSweeper {
         for (int j = 0; j < 2; ++j) blocks_[k](i, j) = p.w.coeff(2 * k + i, 2 * k + j);
       }
     }
-    r_ = p.initial_guess.size() == p.NumUnknowns() ? p.initial_guess : Eigen::VectorXd::Zero(p.NumUnknowns());
+    r_ = p.initial_guess.size() == p.NumUnknowns() ? p.initial_guess
+                                                   : Eigen::VectorXd::Zero(p.NumUnknowns());
     u_ = p.w * r_ + p.q;
   }
 
@@ -97,7 +99,8 @@ class DelassusSweeper {
     const Eigen::Vector2d delta = r - old;
     for (int j = 0; j < 2; ++j) {
       if (delta[j] == 0.0) continue;
-      for (Eigen::SparseMatrix<double>::InnerIterator it(p_.w, 2 * k + j); it; ++it) u_[it.row()] += it.value() * delta[j];
+      for (Eigen::SparseMatrix<double>::InnerIterator it(p_.w, 2 * k + j); it; ++it)
+        u_[it.row()] += it.value() * delta[j];
     }
     r_.segment<2>(2 * k) = r;
   }

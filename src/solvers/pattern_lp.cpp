@@ -25,15 +25,16 @@ enum class State { kOpen, kSticking, kSlidingForward, kSlidingBackward, kHeld };
 // open if z_n < 0, sliding forward (backward) if z_t < −μ z_n (> μ z_n), else sticking.
 // For an exact answer every κ > 0 gives its own pattern (ties at zero count as closed and
 // sticking); for an inexact one a small κ trusts its forces, a large one its velocities.
-std::vector<State> PatternOf(const ContactProblem& p, const Eigen::VectorXd& candidate, double r_scale,
-                             double v_scale, double weight, PatternCounts& counts) {
+std::vector<State> PatternOf(const ContactProblem& p, const Eigen::VectorXd& candidate,
+                             double r_scale, double v_scale, double weight, PatternCounts& counts) {
   const Eigen::VectorXd posed = PosedContactVelocity(p, candidate);
   const int per = p.UnknownsPerContact();
   std::vector<State> states(p.NumContacts());
   for (int k = 0; k < p.NumContacts(); ++k) {
     State& s = states[k];
     const double z_n = candidate[per * k] / r_scale - weight * posed[per * k] / v_scale;
-    const double z_t = per == 2 ? candidate[per * k + 1] / r_scale - weight * posed[per * k + 1] / v_scale : 0.0;
+    const double z_t =
+        per == 2 ? candidate[per * k + 1] / r_scale - weight * posed[per * k + 1] / v_scale : 0.0;
     const double limit = p.contacts[k].mu * z_n;
     if (p.contacts[k].kind == ConstraintKind::kBilateral) {
       s = State::kHeld;
@@ -74,8 +75,9 @@ int AddFrictionRow(LpTriplets& lp, int n, double mu, double sign, double lower, 
 // pattern's laws allow and that balance the step's load with no motion, Hᵀ r = −M v_free
 // (the response is O(ξ) and its inertia O(ξ) of the forces). Columns r̂, e⁺, e⁻; rows: the
 // balance, the pattern's friction, r̂ − e⁺ + e⁻ = reference / R.
-LpTriplets BuildStaticLp(const ContactProblem& p, const Operators& ops, const std::vector<State>& states,
-                         const Eigen::VectorXd& reference, double r_scale) {
+LpTriplets BuildStaticLp(const ContactProblem& p, const Operators& ops,
+                         const std::vector<State>& states, const Eigen::VectorXd& reference,
+                         double r_scale) {
   const int dofs = p.NumDofs(), unknowns = p.NumUnknowns(), per = p.UnknownsPerContact();
   LpTriplets lp;
   const int r = lp.AddColumns(unknowns, -kInfinity, kInfinity);
@@ -101,8 +103,12 @@ LpTriplets BuildStaticLp(const ContactProblem& p, const Operators& ops, const st
         AddFrictionRow(lp, n, mu, -1.0, -kInfinity, 0.0);
         AddFrictionRow(lp, n, mu, 1.0, 0.0, kInfinity);
         break;
-      case State::kSlidingForward: AddFrictionRow(lp, n, mu, 1.0, 0.0, 0.0); break;    // ũ_t > 0: r_t = −μ r_n
-      case State::kSlidingBackward: AddFrictionRow(lp, n, mu, -1.0, 0.0, 0.0); break;  // ũ_t < 0: r_t = +μ r_n
+      case State::kSlidingForward:
+        AddFrictionRow(lp, n, mu, 1.0, 0.0, 0.0);
+        break;  // ũ_t > 0: r_t = −μ r_n
+      case State::kSlidingBackward:
+        AddFrictionRow(lp, n, mu, -1.0, 0.0, 0.0);
+        break;  // ũ_t < 0: r_t = +μ r_n
     }
   }
   lp::AddL1Distance(lp, r, reference / r_scale);
@@ -122,8 +128,9 @@ LpTriplets BuildStaticLp(const ContactProblem& p, const Operators& ops, const st
 // Bounds whose slack is above kFarBound response sizes are left out: no O(1) ŝ reaches them.
 constexpr double kFarBound = 1e6;
 
-LpTriplets BuildMotionLp(const ContactProblem& p, const Operators& ops, const std::vector<State>& states,
-                         const Eigen::VectorXd& forces, double v_scale, double& s_scale) {
+LpTriplets BuildMotionLp(const ContactProblem& p, const Operators& ops,
+                         const std::vector<State>& states, const Eigen::VectorXd& forces,
+                         double v_scale, double& s_scale) {
   const int unknowns = p.NumUnknowns(), per = p.UnknownsPerContact(), dofs = p.NumDofs();
   const Eigen::SparseMatrix<double, Eigen::RowMajor>& h = ops.h;
   const Eigen::VectorXd& inv_mass = ops.inv_mass;
@@ -158,7 +165,8 @@ LpTriplets BuildMotionLp(const ContactProblem& p, const Operators& ops, const st
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int n = per * k, t = n + 1;
     const double r_n = forces[n], mu = p.contacts[k].mu;
-    if (states[k] != State::kHeld && states[k] != State::kOpen && bounded(r_n)) lp.col_lower[s + n] = -r_n / s_scale;
+    if (states[k] != State::kHeld && states[k] != State::kOpen && bounded(r_n))
+      lp.col_lower[s + n] = -r_n / s_scale;
     switch (states[k]) {
       case State::kOpen:
         velocity_row(n, 0.0, kInfinity);
@@ -172,8 +180,10 @@ LpTriplets BuildMotionLp(const ContactProblem& p, const Operators& ops, const st
         velocity_row(n, 0.0, 0.0);
         if (per == 1) break;
         velocity_row(t, 0.0, 0.0);
-        if (bounded(mu * r_n - forces[t])) AddFrictionRow(lp, s + n, mu, -1.0, -kInfinity, (mu * r_n - forces[t]) / s_scale);
-        if (bounded(mu * r_n + forces[t])) AddFrictionRow(lp, s + n, mu, 1.0, -(mu * r_n + forces[t]) / s_scale, kInfinity);
+        if (bounded(mu * r_n - forces[t]))
+          AddFrictionRow(lp, s + n, mu, -1.0, -kInfinity, (mu * r_n - forces[t]) / s_scale);
+        if (bounded(mu * r_n + forces[t]))
+          AddFrictionRow(lp, s + n, mu, 1.0, -(mu * r_n + forces[t]) / s_scale, kInfinity);
         break;
       case State::kSlidingForward:
         velocity_row(n, 0.0, 0.0);
@@ -199,15 +209,19 @@ std::vector<double> SolveLp(const LpTriplets& lp, long long& iterations, std::st
   // models (an N = 500 opening: 1.1 s against 2.5 s for the motion).
   model.primal();
   iterations += model.numberIterations();
-  if (model.isProvenOptimal()) return std::vector<double>(model.getColSolution(), model.getColSolution() + lp.NumColumns());
-  message = model.isProvenPrimalInfeasible() ? "infeasible" : "CLP stopped with status " + std::to_string(model.status());
+  if (model.isProvenOptimal())
+    return std::vector<double>(model.getColSolution(), model.getColSolution() + lp.NumColumns());
+  message = model.isProvenPrimalInfeasible()
+                ? "infeasible"
+                : "CLP stopped with status " + std::to_string(model.status());
   return {};
 }
 
 // Stage 1's forces meet its constraints to CLP's tolerance; stage 2 measures slacks in
 // units of the response, a billion times smaller, so they are first put exactly on their
 // pattern (the balance this disturbs is the kind of error stage 2 corrects anyway).
-void ProjectOntoPattern(const ContactProblem& p, const std::vector<State>& states, Eigen::VectorXd& r) {
+void ProjectOntoPattern(const ContactProblem& p, const std::vector<State>& states,
+                        Eigen::VectorXd& r) {
   const int per = p.UnknownsPerContact();
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int n = per * k;
@@ -228,7 +242,8 @@ void ProjectOntoPattern(const ContactProblem& p, const std::vector<State>& state
   }
 }
 
-double ImpulseScale(const ContactProblem& p, const Eigen::VectorXd& reference, const Eigen::VectorXd& candidate) {
+double ImpulseScale(const ContactProblem& p, const Eigen::VectorXd& reference,
+                    const Eigen::VectorXd& candidate) {
   for (const Eigen::VectorXd* v : {&reference, &candidate}) {
     double sum = 0.0;
     int count = 0;
@@ -246,20 +261,25 @@ double ImpulseScale(const ContactProblem& p, const Eigen::VectorXd& reference, c
 PatternSolution SolveOnPattern(const ContactProblem& problem, const Eigen::VectorXd& candidate,
                                const Eigen::VectorXd& reference, double velocity_scale,
                                double velocity_weight) {
-  const auto sized = [&](const Eigen::VectorXd& v) { return v.size() == problem.NumUnknowns() && v.allFinite(); };
+  const auto sized = [&](const Eigen::VectorXd& v) {
+    return v.size() == problem.NumUnknowns() && v.allFinite();
+  };
   if (!sized(candidate) || !sized(reference)) {
-    throw std::invalid_argument("pattern LP: candidate and reference need " + std::to_string(problem.NumUnknowns()) +
-                                " finite impulses");
+    throw std::invalid_argument("pattern LP: candidate and reference need " +
+                                std::to_string(problem.NumUnknowns()) + " finite impulses");
   }
-  if (!(velocity_scale > 0.0) || !std::isfinite(velocity_scale) || !(velocity_weight > 0.0) || !std::isfinite(velocity_weight)) {
+  if (!(velocity_scale > 0.0) || !std::isfinite(velocity_scale) || !(velocity_weight > 0.0) ||
+      !std::isfinite(velocity_weight)) {
     throw std::invalid_argument("pattern LP: the velocity scale and weight must be finite and > 0");
   }
   PatternSolution out;
   const Operators ops(problem);
   const double r_scale = ImpulseScale(problem, reference, candidate);
-  const std::vector<State> states = PatternOf(problem, candidate, r_scale, velocity_scale, velocity_weight, out.pattern);
+  const std::vector<State> states =
+      PatternOf(problem, candidate, r_scale, velocity_scale, velocity_weight, out.pattern);
   std::string why;
-  const std::vector<double> forces = SolveLp(BuildStaticLp(problem, ops, states, reference, r_scale), out.iterations, why);
+  const std::vector<double> forces =
+      SolveLp(BuildStaticLp(problem, ops, states, reference, r_scale), out.iterations, why);
   if (forces.empty()) {
     out.message = "static forces of the pattern: " + why;
     return out;
@@ -267,12 +287,16 @@ PatternSolution SolveOnPattern(const ContactProblem& problem, const Eigen::Vecto
   out.impulses = Eigen::Map<const Eigen::VectorXd>(forces.data(), problem.NumUnknowns()) * r_scale;
   ProjectOntoPattern(problem, states, out.impulses);
   double s_scale = 0.0;
-  const std::vector<double> change = SolveLp(BuildMotionLp(problem, ops, states, out.impulses, velocity_scale, s_scale), out.iterations, why);
+  const std::vector<double> change =
+      SolveLp(BuildMotionLp(problem, ops, states, out.impulses, velocity_scale, s_scale),
+              out.iterations, why);
   if (change.empty()) {
     out.message = "motion of the pattern: " + why;
     return out;
   }
-  out.impulses += Eigen::Map<const Eigen::VectorXd>(change.data() + problem.NumDofs(), problem.NumUnknowns()) * s_scale;
+  out.impulses +=
+      Eigen::Map<const Eigen::VectorXd>(change.data() + problem.NumDofs(), problem.NumUnknowns()) *
+      s_scale;
   out.found = true;
   return out;
 }

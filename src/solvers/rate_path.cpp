@@ -55,11 +55,19 @@ struct Unknown {
   bool operator==(const Unknown& o) const { return contact == o.contact && kind == o.kind; }
 };
 
-enum class EventKind { kNone, kSlipStops, kCloses, kLeavesApex, kStartsSliding, kOpens, kParameterLimit };
+enum class EventKind {
+  kNone,
+  kSlipStops,
+  kCloses,
+  kLeavesApex,
+  kStartsSliding,
+  kOpens,
+  kParameterLimit
+};
 struct Event {
   EventKind kind = EventKind::kNone;
   int contact = -1;
-  double sign = 0.0;   // kStartsSliding: the slip direction; kLeavesApex: the flow that stops
+  double sign = 0.0;  // kStartsSliding: the slip direction; kLeavesApex: the flow that stops
   Lex step{kInf, kInf};
 };
 
@@ -72,13 +80,17 @@ struct Weights {
 };
 Weights WeightsOf(int contact) {
   // Fractional parts of multiples of the golden ratio: distinct, in [1, 2).
-  auto w = [](long long k) { const double x = 0.6180339887498949 * static_cast<double>(k); return 1.0 + (x - std::floor(x)); };
+  auto w = [](long long k) {
+    const double x = 0.6180339887498949 * static_cast<double>(k);
+    return 1.0 + (x - std::floor(x));
+  };
   return {w(3LL * contact + 1), w(3LL * contact + 2), w(3LL * contact + 3)};
 }
 
 class PathFollower {
  public:
-  PathFollower(const RateProblem& p, const RatePathOptions& o) : p_(p), options_(o), dims_(p.basis.cols()) {
+  PathFollower(const RateProblem& p, const RatePathOptions& o)
+      : p_(p), options_(o), dims_(p.basis.cols()) {
     const std::size_t n = p.contacts.size();
     state_.assign(n, ContactState::kStick);
     for (auto* v : {&slip_, &open_n_, &open_t_, &apex_plus_, &apex_minus_}) v->assign(n, Lex{});
@@ -89,7 +101,8 @@ class PathFollower {
 
   RatePathResult Run() {
     RatePathResult out;
-    if (!release_possible_) return Finish(RatePathEnd::kReleaseFails, "no self-stress carries the released force", out);
+    if (!release_possible_)
+      return Finish(RatePathEnd::kReleaseFails, "no self-stress carries the released force", out);
     base0_ = Eigen::VectorXd::Zero(dims_);
     base1_ = Eigen::VectorXd::Zero(dims_);
     if (release_.norm() > 0.0) {
@@ -99,7 +112,8 @@ class PathFollower {
       associated_ = true;
       direction_ = release_;
       const RatePathEnd end = Follow(1.0, out);
-      if (end != RatePathEnd::kCollapse) return Finish(RatePathEnd::kReleaseFails, std::string("releasing: ") + ToString(end), out);
+      if (end != RatePathEnd::kCollapse)
+        return Finish(RatePathEnd::kReleaseFails, std::string("releasing: ") + ToString(end), out);
       const Eigen::VectorXd alpha0 = Alpha0(), alpha1 = Alpha1();
       Reset();
       base0_ = alpha0;
@@ -121,7 +135,8 @@ class PathFollower {
   // is the prestress the perturbation starts from.
   void Reset() {
     std::fill(state_.begin(), state_.end(), ContactState::kStick);
-    for (auto* v : {&slip_, &open_n_, &open_t_, &apex_plus_, &apex_minus_}) std::fill(v->begin(), v->end(), Lex{});
+    for (auto* v : {&slip_, &open_n_, &open_t_, &apex_plus_, &apex_minus_})
+      std::fill(v->begin(), v->end(), Lex{});
     t_ = Lex{};
     unknowns_.clear();
     pg_.resize(dims_, 0);
@@ -157,14 +172,20 @@ class PathFollower {
   Eigen::VectorXd RowN(const RateContact& c) const { return p_.basis.row(c.row_n).transpose(); }
   Eigen::VectorXd RowT(const RateContact& c) const { return p_.basis.row(c.row_t).transpose(); }
   // The gradient of the cone's edge μ r_n + σ r_t ≥ 0, in the basis' coordinates.
-  Eigen::VectorXd EdgeNormal(const RateContact& c, double sigma) const { return c.mu * RowN(c) + sigma * RowT(c); }
-  double SlipSign(int c) const { return state_[static_cast<std::size_t>(c)] == ContactState::kSlidePositive ? 1.0 : -1.0; }
+  Eigen::VectorXd EdgeNormal(const RateContact& c, double sigma) const {
+    return c.mu * RowN(c) + sigma * RowT(c);
+  }
+  double SlipSign(int c) const {
+    return state_[static_cast<std::size_t>(c)] == ContactState::kSlidePositive ? 1.0 : -1.0;
+  }
   // The weight of the edge μ r_n + σ r_t ≥ 0 (σ = −1: y⁺, σ = +1: y⁻).
   double EdgeWeight(int c, double sigma) const {
     const Weights& w = weights_[static_cast<std::size_t>(c)];
     return weight_scale_ * (sigma < 0.0 ? w.plus : w.minus);
   }
-  double NormalWeight(int c) const { return weight_scale_ * weights_[static_cast<std::size_t>(c)].normal; }
+  double NormalWeight(int c) const {
+    return weight_scale_ * weights_[static_cast<std::size_t>(c)].normal;
+  }
 
   // G_c: how an unknown displaces its contact, in the basis' coordinates.
   Eigen::VectorXd Column(const Unknown& u) const {
@@ -173,7 +194,8 @@ class PathFollower {
       case UnknownKind::kSlip:
         // Coulomb: along the tangent; associated: along the normal of the edge the force is
         // on, μ n + σ t for a slip σ (it opens the contact too).
-        return associated_ ? EdgeNormal(c, SlipSign(u.contact)) : Eigen::VectorXd(SlipSign(u.contact) * RowT(c));
+        return associated_ ? EdgeNormal(c, SlipSign(u.contact))
+                           : Eigen::VectorXd(SlipSign(u.contact) * RowT(c));
       case UnknownKind::kOpenNormal: return RowN(c);
       case UnknownKind::kOpenTangential: return RowT(c);
       case UnknownKind::kApexPlus: return EdgeNormal(c, -1.0);
@@ -187,11 +209,12 @@ class PathFollower {
   Eigen::VectorXd EquationRow(const Unknown& u) const {
     const RateContact& c = ContactOf(u.contact);
     switch (u.kind) {
-      case UnknownKind::kSlip: return EdgeNormal(c, SlipSign(u.contact));  // on the edge opposing the slip
+      case UnknownKind::kSlip:
+        return EdgeNormal(c, SlipSign(u.contact));  // on the edge opposing the slip
       case UnknownKind::kApexPlus: return EdgeNormal(c, -1.0);
       case UnknownKind::kApexMinus: return EdgeNormal(c, +1.0);
-      case UnknownKind::kOpenNormal: return RowN(c);       // r_n stays at its bound
-      case UnknownKind::kOpenTangential: return RowT(c);   // r_t stays as it was
+      case UnknownKind::kOpenNormal: return RowN(c);      // r_n stays at its bound
+      case UnknownKind::kOpenTangential: return RowT(c);  // r_t stays as it was
     }
     return {};
   }
@@ -218,7 +241,8 @@ class PathFollower {
         case ContactState::kSlidePositive:
         case ContactState::kSlideNegative: u.push_back({k, UnknownKind::kSlip}); break;
         case ContactState::kOpen:
-          if (associated_ && Frictional(p_.contacts[c])) {  // at the apex: a flow along each edge's normal
+          if (associated_ &&
+              Frictional(p_.contacts[c])) {  // at the apex: a flow along each edge's normal
             u.push_back({k, UnknownKind::kApexPlus});
             u.push_back({k, UnknownKind::kApexMinus});
           } else {
@@ -235,10 +259,12 @@ class PathFollower {
   // came or went change a row and a column (O(m D) each, not O(m² D)).
   void UpdateSystem() {
     const std::vector<Unknown> wanted = WantedUnknowns();
-    // Drop the unknowns no longer wanted (and those whose column changed: a slip whose sign flipped).
+    // Drop the unknowns no longer wanted (and those whose column changed: a slip whose
+    // sign flipped).
     for (std::size_t k = unknowns_.size(); k-- > 0;) {
       const bool keep = std::find(wanted.begin(), wanted.end(), unknowns_[k]) != wanted.end() &&
-                        (unknowns_[k].kind != UnknownKind::kSlip || slip_sign_[k] == SlipSign(unknowns_[k].contact));
+                        (unknowns_[k].kind != UnknownKind::kSlip ||
+                         slip_sign_[k] == SlipSign(unknowns_[k].contact));
       if (keep) continue;
       RemoveAt(static_cast<Eigen::Index>(k));
     }
@@ -250,11 +276,13 @@ class PathFollower {
   void RemoveAt(Eigen::Index k) {
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
     auto drop_row = [&](Eigen::MatrixXd& a) {
-      if (k < a.rows() - 1) a.block(k, 0, a.rows() - k - 1, a.cols()) = a.bottomRows(a.rows() - k - 1).eval();
+      if (k < a.rows() - 1)
+        a.block(k, 0, a.rows() - k - 1, a.cols()) = a.bottomRows(a.rows() - k - 1).eval();
       a.conservativeResize(a.rows() - 1, a.cols());
     };
     auto drop_col = [&](Eigen::MatrixXd& a) {
-      if (k < a.cols() - 1) a.block(0, k, a.rows(), a.cols() - k - 1) = a.rightCols(a.cols() - k - 1).eval();
+      if (k < a.cols() - 1)
+        a.block(0, k, a.rows(), a.cols() - k - 1) = a.rightCols(a.cols() - k - 1).eval();
       a.conservativeResize(a.rows(), a.cols() - 1);
     };
     drop_col(pg_);
@@ -364,7 +392,8 @@ class PathFollower {
 
   // +1 or −1: the orientation of the new piece along which the quantity that the last event
   // released grows (0: it does not move, a degenerate piece).
-  double Orient(Orientation orient, int contact, const Eigen::VectorXd& dir, const Eigen::VectorXd& dalpha) const {
+  double Orient(Orientation orient, int contact, const Eigen::VectorXd& dir,
+                const Eigen::VectorXd& dalpha) const {
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
     double rate = 0.0;
     switch (orient) {
@@ -376,7 +405,9 @@ class PathFollower {
         }
         break;
       case Orientation::kNormalForce: rate = RowN(ContactOf(contact)).dot(dalpha); break;
-      case Orientation::kFrictionRow: rate = EdgeNormal(ContactOf(contact), friction_row_sign_).dot(dalpha); break;
+      case Orientation::kFrictionRow:
+        rate = EdgeNormal(ContactOf(contact), friction_row_sign_).dot(dalpha);
+        break;
     }
     if (std::abs(rate) <= kRateTolerance) return 0.0;
     return rate > 0.0 ? 1.0 : -1.0;
@@ -386,10 +417,12 @@ class PathFollower {
     if (LexLess(candidate.step, best.step)) best = candidate;
   }
   // The step at which a value v₀ + ε v₁, changing at `rate` < 0 per unit step, reaches 0.
-  static Lex StepTo(double v0, double v1, double rate) { return {std::max(0.0, v0) / -rate, v1 / -rate}; }
+  static Lex StepTo(double v0, double v1, double rate) {
+    return {std::max(0.0, v0) / -rate, v1 / -rate};
+  }
 
-  Event NextEvent(const Eigen::VectorXd& dir, const Eigen::VectorXd& alpha0, const Eigen::VectorXd& alpha1,
-                  const Eigen::VectorXd& dalpha, double t_max) {
+  Event NextEvent(const Eigen::VectorXd& dir, const Eigen::VectorXd& alpha0,
+                  const Eigen::VectorXd& alpha1, const Eigen::VectorXd& dalpha, double t_max) {
     Event best;
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
     for (Eigen::Index k = 0; k < m; ++k) {
@@ -413,7 +446,8 @@ class PathFollower {
       const int k = static_cast<int>(ci);
       const double rn = c.r0_n + f0[c.row_n], rn1 = f1[c.row_n], drn = df[c.row_n];
       if (!Frictional(c)) {  // a frictionless contact opens at r_n = −ε w
-        if (drn < -kRateTolerance) Consider({EventKind::kOpens, k, 0.0, StepTo(rn, rn1 + NormalWeight(k), drn)}, best);
+        if (drn < -kRateTolerance)
+          Consider({EventKind::kOpens, k, 0.0, StepTo(rn, rn1 + NormalWeight(k), drn)}, best);
         continue;
       }
       const double rt = c.r0_t + f0[c.row_t], rt1 = f1[c.row_t], drt = df[c.row_t];
@@ -422,7 +456,8 @@ class PathFollower {
         // associated one meets the other edge, μ r_n − σ r_t = −ε w.
         const double other = -SlipSign(k);
         const double y = associated_ ? c.mu * rn + other * rt : rn;
-        const double y1 = associated_ ? c.mu * rn1 + other * rt1 + EdgeWeight(k, other) : rn1 + NormalWeight(k);
+        const double y1 =
+            associated_ ? c.mu * rn1 + other * rt1 + EdgeWeight(k, other) : rn1 + NormalWeight(k);
         const double dy = associated_ ? c.mu * drn + other * drt : drn;
         if (dy < -kRateTolerance) Consider({EventKind::kOpens, k, 0.0, StepTo(y, y1, dy)}, best);
         continue;
@@ -430,10 +465,14 @@ class PathFollower {
       // y⁺ = μ r_n − r_t reaches −ε w: the friction force points along +t, the slip along −t.
       const double dyp = c.mu * drn - drt, dym = c.mu * drn + drt;
       if (dyp < -kRateTolerance) {
-        Consider({EventKind::kStartsSliding, k, -1.0, StepTo(c.mu * rn - rt, c.mu * rn1 - rt1 + EdgeWeight(k, -1.0), dyp)}, best);
+        Consider({EventKind::kStartsSliding, k, -1.0,
+                  StepTo(c.mu * rn - rt, c.mu * rn1 - rt1 + EdgeWeight(k, -1.0), dyp)},
+                 best);
       }
       if (dym < -kRateTolerance) {
-        Consider({EventKind::kStartsSliding, k, +1.0, StepTo(c.mu * rn + rt, c.mu * rn1 + rt1 + EdgeWeight(k, 1.0), dym)}, best);
+        Consider({EventKind::kStartsSliding, k, +1.0,
+                  StepTo(c.mu * rn + rt, c.mu * rn1 + rt1 + EdgeWeight(k, 1.0), dym)},
+                 best);
       }
     }
     const double dt = dir[m];
@@ -462,7 +501,8 @@ class PathFollower {
         orient = Orientation::kFrictionRow;
         break;
       case EventKind::kOpens: {
-        if (associated_ && Frictional(ContactOf(ev.contact))) {  // the force reaches the apex: both edges' flows
+        if (associated_ &&
+            Frictional(ContactOf(ev.contact))) {  // the force reaches the apex: both edges' flows
           const bool on_minus_edge = state_[c] == ContactState::kSlidePositive;  // y⁻ active
           apex_minus_[c] = on_minus_edge ? slip_[c] : Lex{};
           apex_plus_[c] = on_minus_edge ? Lex{} : slip_[c];
@@ -495,9 +535,11 @@ class PathFollower {
         const Lex tangential = open_t_[c];
         open_n_[c] = open_t_[c] = Lex{};
         // Closed again: it slides on with its tangential displacement (holonomic), or sticks.
-        const bool slides = Frictional(ContactOf(ev.contact)) && (tangential.v0 != 0.0 || tangential.v1 != 0.0);
+        const bool slides =
+            Frictional(ContactOf(ev.contact)) && (tangential.v0 != 0.0 || tangential.v1 != 0.0);
         if (slides) {
-          const bool positive = tangential.v0 > 0.0 || (tangential.v0 == 0.0 && tangential.v1 > 0.0);
+          const bool positive =
+              tangential.v0 > 0.0 || (tangential.v0 == 0.0 && tangential.v1 > 0.0);
           state_[c] = positive ? ContactState::kSlidePositive : ContactState::kSlideNegative;
           slip_[c] = positive ? tangential : Lex{-tangential.v0, -tangential.v1};
         } else {
@@ -533,7 +575,8 @@ class PathFollower {
     Eigen::VectorXd alpha = Alpha0();
     if (unknowns_.empty()) return alpha;
     Eigen::VectorXd g(static_cast<Eigen::Index>(unknowns_.size()));
-    for (std::size_t k = 0; k < unknowns_.size(); ++k) g[static_cast<Eigen::Index>(k)] = EquationValue(unknowns_[k], alpha);
+    for (std::size_t k = 0; k < unknowns_.size(); ++k)
+      g[static_cast<Eigen::Index>(k)] = EquationValue(unknowns_[k], alpha);
     const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(epg_);
     const Eigen::VectorXd du = cod.solve(g);
     return alpha - pg_ * du;

@@ -77,7 +77,8 @@ bool FarkasCertifies(const lp::LpTriplets& lp, const ClpSimplex& model) {
     const double largest = y.cwiseAbs().maxCoeff();
     bool finite = true;
     for (Eigen::Index i = 0; i < y.size(); ++i) {
-      const double limit = y[i] > 0.0 ? lp.row_lower[static_cast<std::size_t>(i)] : lp.row_upper[static_cast<std::size_t>(i)];
+      const double limit = y[i] > 0.0 ? lp.row_lower[static_cast<std::size_t>(i)]
+                                      : lp.row_upper[static_cast<std::size_t>(i)];
       if (y[i] == 0.0) continue;
       if (!std::isfinite(limit)) {
         finite = finite && std::abs(y[i]) <= 1e-12 * largest;
@@ -87,7 +88,9 @@ bool FarkasCertifies(const lp::LpTriplets& lp, const ClpSimplex& model) {
       size += std::abs(y[i]) * (1.0 + std::abs(limit));
     }
     // Forces are O(1): the certificate must clear round-off by a wide margin.
-    if (finite && size > 0.0 && aty.cwiseAbs().maxCoeff() <= 1e-10 * std::max(scale, 1e-300) && bound > 1e-7 * size) return true;
+    if (finite && size > 0.0 && aty.cwiseAbs().maxCoeff() <= 1e-10 * std::max(scale, 1e-300) &&
+        bound > 1e-7 * size)
+      return true;
   }
   return false;
 }
@@ -109,7 +112,8 @@ Verdict SolveOver(const StaticRows& s, const std::vector<int>& subset) {
     }
   };
   for (int r : subset) add_row(s.a.row(r).transpose(), s.b[r], kInfinity);
-  for (Eigen::Index r = 0; r < s.e.rows(); ++r) add_row(s.e.row(r).transpose(), s.e_value[r], s.e_value[r]);
+  for (Eigen::Index r = 0; r < s.e.rows(); ++r)
+    add_row(s.e.row(r).transpose(), s.e_value[r], s.e_value[r]);
   ClpSimplex model;
   lp::LoadIntoClp(lp, kTolerance, model);
   // The dual simplex first: CLP's initialSolve spends tens of seconds proving some of
@@ -129,7 +133,8 @@ Verdict SolveOver(const StaticRows& s, const std::vector<int>& subset) {
   v.lp.iterations = iterations;
   v.lp.decided = model.isProvenOptimal() || infeasible;
   v.lp.feasible = model.isProvenOptimal();
-  if (v.lp.feasible) v.alpha = Eigen::Map<const Eigen::VectorXd>(model.primalColumnSolution(), dims);
+  if (v.lp.feasible)
+    v.alpha = Eigen::Map<const Eigen::VectorXd>(model.primalColumnSolution(), dims);
   return v;
 }
 
@@ -140,8 +145,9 @@ std::vector<int> NearestRows(const StaticRows& s, std::size_t count) {
   std::iota(order.begin(), order.end(), 0);
   count = std::min(count, order.size());
   const Eigen::VectorXd slack = -s.b.array() / s.a.rowwise().norm().array().max(1e-300);
-  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count), order.end(),
-                    [&](int x, int y) { return slack[x] < slack[y] || (slack[x] == slack[y] && x < y); });
+  std::partial_sort(
+      order.begin(), order.begin() + static_cast<std::ptrdiff_t>(count), order.end(),
+      [&](int x, int y) { return slack[x] < slack[y] || (slack[x] == slack[y] && x < y); });
   order.resize(count);
   return order;
 }
@@ -175,15 +181,16 @@ RateStaticLp SolveRateStaticLp(const RateProblem& p, const RateStaticLpOptions& 
     const Eigen::VectorXd violation = rows.a * v.alpha - rows.b;
     std::vector<int> violated;
     for (Eigen::Index r = 0; r < violation.size(); ++r) {
-      if (violation[r] < -kTolerance && in_subset[static_cast<std::size_t>(r)] == 0) violated.push_back(static_cast<int>(r));
+      if (violation[r] < -kTolerance && in_subset[static_cast<std::size_t>(r)] == 0)
+        violated.push_back(static_cast<int>(r));
     }
     proven = violation.minCoeff() >= -kTolerance;
     // Done, or only rows of the subset itself are off (by CLP's scaled tolerance): the
     // same LP again would change nothing, the LP over every row decides.
     if (proven || violated.empty()) break;
     const std::size_t take = std::min(violated.size(), static_cast<std::size_t>(4 * dims));
-    std::partial_sort(violated.begin(), violated.begin() + static_cast<std::ptrdiff_t>(take), violated.end(),
-                      [&](int x, int y) { return violation[x] < violation[y]; });
+    std::partial_sort(violated.begin(), violated.begin() + static_cast<std::ptrdiff_t>(take),
+                      violated.end(), [&](int x, int y) { return violation[x] < violation[y]; });
     for (std::size_t k = 0; k < take; ++k) {
       subset.push_back(violated[k]);
       in_subset[static_cast<std::size_t>(violated[k])] = 1;
@@ -202,8 +209,11 @@ RateStaticLp SolveRateStaticLp(const RateProblem& p, const RateStaticLpOptions& 
   v.lp.iterations = iterations;
   RateStaticLp out = v.lp;
   char text[200];
-  std::snprintf(text, sizeof text, "static LP (%d variables, %d rows; %s: %d, %d iterations): %s", dims, total, method, used,
-                out.iterations, out.feasible ? "feasible" : out.decided ? "infeasible" : "undecided");
+  std::snprintf(text, sizeof text, "static LP (%d variables, %d rows; %s: %d, %d iterations): %s",
+                dims, total, method, used, out.iterations,
+                out.feasible  ? "feasible"
+                : out.decided ? "infeasible"
+                              : "undecided");
   out.message = text;
   return out;
 }

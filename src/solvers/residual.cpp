@@ -69,14 +69,19 @@ ResidualBreakdown Summary(const std::vector<double>& errors, double sum_rn, doub
 
 ContactLaw LawOf(const ProblemContact& c) { return {c.mu, c.kind}; }
 
-Eigen::Vector2d Pair(const Eigen::VectorXd& x, int k) { return Eigen::Vector2d(x[2 * k], x[2 * k + 1]); }
+Eigen::Vector2d Pair(const Eigen::VectorXd& x, int k) {
+  return Eigen::Vector2d(x[2 * k], x[2 * k + 1]);
+}
 
 }  // namespace
 
-double ResidualWeight(const ContactProblem& p, int k) { return WeightFromDiagonal(DelassusDiagonal(p, k)); }
+double ResidualWeight(const ContactProblem& p, int k) {
+  return WeightFromDiagonal(DelassusDiagonal(p, k));
+}
 
 double ResidualWeight(const DelassusProblem& p, int k) {
-  return WeightFromDiagonal(Eigen::Vector2d(p.w.coeff(2 * k, 2 * k), p.w.coeff(2 * k + 1, 2 * k + 1)));
+  return WeightFromDiagonal(
+      Eigen::Vector2d(p.w.coeff(2 * k, 2 * k), p.w.coeff(2 * k + 1, 2 * k + 1)));
 }
 
 ResidualEvaluator::ResidualEvaluator(const ContactProblem& p) : p_(p) {
@@ -88,18 +93,22 @@ ResidualEvaluator::ResidualEvaluator(const ContactProblem& p) : p_(p) {
   }
 }
 
-VelocityState ResidualEvaluator::Velocities(const Eigen::VectorXd& impulses) const { return EndVelocityState(p_, impulses); }
+VelocityState ResidualEvaluator::Velocities(const Eigen::VectorXd& impulses) const {
+  return EndVelocityState(p_, impulses);
+}
 
-void ResidualEvaluator::Errors(const Eigen::VectorXd& impulses, const VelocityState& v, int begin, int end,
-                               std::vector<double>& errors) const {
+void ResidualEvaluator::Errors(const Eigen::VectorXd& impulses, const VelocityState& v, int begin,
+                               int end, std::vector<double>& errors) const {
   const int stride = p_.UnknownsPerContact();
   for (int k = begin; k < end; ++k) {
     const Eigen::Vector2d r(impulses[k * stride], p_.frictional ? impulses[k * stride + 1] : 0.0);
-    errors[k] = ContactError(LawOf(p_.contacts[k]), p_.frictional, rho_[k], r, PosedVelocity(p_, v, k));
+    errors[k] =
+        ContactError(LawOf(p_.contacts[k]), p_.frictional, rho_[k], r, PosedVelocity(p_, v, k));
   }
 }
 
-ResidualBreakdown ResidualEvaluator::Summarise(const Eigen::VectorXd& impulses, const std::vector<double>& errors) const {
+ResidualBreakdown ResidualEvaluator::Summarise(const Eigen::VectorXd& impulses,
+                                               const std::vector<double>& errors) const {
   double sum_rn = 0.0;
   const int stride = p_.UnknownsPerContact();
   for (int k = 0; k < p_.NumContacts(); ++k) sum_rn += std::abs(impulses[k * stride]);

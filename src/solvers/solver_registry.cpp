@@ -37,7 +37,8 @@ const char* ToString(SweepOrder order) {
 
 SweepOrder SweepOrderFromString(const std::string& name) {
   std::string known;
-  for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal, SweepOrder::kHeight}) {
+  for (SweepOrder o : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric,
+                       SweepOrder::kLocal, SweepOrder::kHeight}) {
     if (name == ToString(o)) return o;
     known += (known.empty() ? "" : ", ") + std::string(ToString(o));
   }
@@ -68,19 +69,30 @@ namespace {
 }  // namespace
 
 void Validate(const SolverOptions& o) {
-  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) Reject("tolerance", o.tolerance, "must be a positive finite number");
+  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
+    Reject("tolerance", o.tolerance, "must be a positive finite number");
   if (o.max_iterations < 0) Reject("max_iterations", o.max_iterations, "must be >= 0");
-  if (!(o.relaxation > 0.0 && o.relaxation < 2.0)) Reject("relaxation", o.relaxation, "must lie in (0, 2)");
+  if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
+    Reject("relaxation", o.relaxation, "must lie in (0, 2)");
   if (o.check_interval < 1) Reject("check_interval", o.check_interval, "must be >= 1");
   if (o.threads < 1) Reject("threads", o.threads, "must be >= 1");
-  if (o.newton_max_iterations < 0) Reject("newton_max_iterations", o.newton_max_iterations, "must be >= 0");
-  if (!(o.newton_regularization >= 0.0) || !std::isfinite(o.newton_regularization)) Reject("newton_regularization", o.newton_regularization, "must be a finite number >= 0");
-  if (!(o.newton_warmup_tolerance > 0.0) || !std::isfinite(o.newton_warmup_tolerance)) Reject("newton_warmup_tolerance", o.newton_warmup_tolerance, "must be a positive finite number");
-  if (o.ipopt_max_iterations < 0) Reject("ipopt_max_iterations", o.ipopt_max_iterations, "must be >= 0");
-  if (o.nlopt_max_evaluations < 1) Reject("nlopt_max_evaluations", o.nlopt_max_evaluations, "must be >= 1");
-  if (!(o.lemke_velocity_scale >= 0.0) || !std::isfinite(o.lemke_velocity_scale)) Reject("lemke_velocity_scale", o.lemke_velocity_scale, "must be a finite number >= 0");
-  if (!(o.lemke_velocity_bound >= 0.0) || !std::isfinite(o.lemke_velocity_bound)) Reject("lemke_velocity_bound", o.lemke_velocity_bound, "must be a finite number >= 0");
-  if (o.lemke_pivots_per_row < 0) Reject("lemke_pivots_per_row", o.lemke_pivots_per_row, "must be >= 0");
+  if (o.newton_max_iterations < 0)
+    Reject("newton_max_iterations", o.newton_max_iterations, "must be >= 0");
+  if (!(o.newton_regularization >= 0.0) || !std::isfinite(o.newton_regularization))
+    Reject("newton_regularization", o.newton_regularization, "must be a finite number >= 0");
+  if (!(o.newton_warmup_tolerance > 0.0) || !std::isfinite(o.newton_warmup_tolerance))
+    Reject("newton_warmup_tolerance", o.newton_warmup_tolerance,
+           "must be a positive finite number");
+  if (o.ipopt_max_iterations < 0)
+    Reject("ipopt_max_iterations", o.ipopt_max_iterations, "must be >= 0");
+  if (o.nlopt_max_evaluations < 1)
+    Reject("nlopt_max_evaluations", o.nlopt_max_evaluations, "must be >= 1");
+  if (!(o.lemke_velocity_scale >= 0.0) || !std::isfinite(o.lemke_velocity_scale))
+    Reject("lemke_velocity_scale", o.lemke_velocity_scale, "must be a finite number >= 0");
+  if (!(o.lemke_velocity_bound >= 0.0) || !std::isfinite(o.lemke_velocity_bound))
+    Reject("lemke_velocity_bound", o.lemke_velocity_bound, "must be a finite number >= 0");
+  if (o.lemke_pivots_per_row < 0)
+    Reject("lemke_pivots_per_row", o.lemke_pivots_per_row, "must be >= 0");
 }
 
 SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
@@ -91,11 +103,15 @@ SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverO
   result.report.backend = Name();
   result.report.status = SolveStatus::kUnsupported;
   result.report.residual = ComputeResidual(p, result.impulses).residual;
-  result.report.message = "backend '" + Name() + "' solves body problems only, not Delassus-form (W, q) problems (docs/backends.md)";
+  result.report.message =
+      "backend '" + Name() +
+      "' solves body problems only, not Delassus-form (W, q) problems (docs/backends.md)";
   return result;
 }
 
-std::vector<std::string> AvailableBackends() { return {"nsgs", "newton", "ipopt", "nlopt", "lemke"}; }
+std::vector<std::string> AvailableBackends() {
+  return {"nsgs", "newton", "ipopt", "nlopt", "lemke"};
+}
 
 std::unique_ptr<ContactSolver> MakeSolver(const std::string& name) {
   if (name == "nsgs") return std::make_unique<NsgsSolver>();

@@ -36,20 +36,17 @@ inline void ShuffleBlocks(SplitMix64& rng, std::vector<std::uint32_t>& order) {
   }
 }
 
-inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<std::uint32_t>& order) {
+inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng,
+                      std::vector<std::uint32_t>& order) {
   const std::uint32_t n = static_cast<std::uint32_t>(order.size());
   switch (kind) {
-    case SweepOrder::kForward:
-      return;
+    case SweepOrder::kForward: return;
     case SweepOrder::kSymmetric:  // forward, backward, forward, …
     case SweepOrder::kHeight:     // the same over contacts laid out by height
       if (sweep > 0) std::reverse(order.begin(), order.end());
       return;
-    case SweepOrder::kRandom:
-      Shuffle(order.begin(), n, rng);
-      return;
-    case SweepOrder::kLocal:
-      return ShuffleBlocks(rng, order);
+    case SweepOrder::kRandom: Shuffle(order.begin(), n, rng); return;
+    case SweepOrder::kLocal: return ShuffleBlocks(rng, order);
   }
 }
 
@@ -57,8 +54,8 @@ inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng, std::vector<s
 // `check_interval` sweeps; `sweep(index)` performs sweep number `index`, in an order of its
 // own. Fills iterations, residual, contact_updates, status and message of `report`.
 template <class IndexedSweepFn, class ResidualFn>
-void RunIndexedSweeps(int num_contacts, const SolverOptions& o, IndexedSweepFn sweep, ResidualFn residual,
-                      SolveReport& report) {
+void RunIndexedSweeps(int num_contacts, const SolverOptions& o, IndexedSweepFn sweep,
+                      ResidualFn residual, SolveReport& report) {
   double current = residual();
   int sweeps = 0;
   while (current > o.tolerance && sweeps < o.max_iterations) {

@@ -8,7 +8,8 @@
 namespace unjam {
 
 Simulation::Simulation(Scene scene, StepOptions options)
-    : scene_(std::move(scene)), options_(std::move(options)), solver_(MakeSolver(options_.backend)) {
+    : scene_(std::move(scene)), options_(std::move(options)),
+      solver_(MakeSolver(options_.backend)) {
   Validate(options_.solver);
   if (!(options_.dt > 0.0)) throw std::invalid_argument("time step dt must be positive");
   if (!(options_.margin >= 0.0)) throw std::invalid_argument("detection margin must be >= 0");
@@ -26,7 +27,8 @@ double Simulation::DetectionMargin() const {
   }
   if (const auto& bath = scene_.effects.pressure_bath) {
     // The cell may start to shrink within the step: λ_free = λ + Δt (P_kin − P_ext)/M_λ.
-    const double rate = std::abs(bath->strain_rate) + options_.dt * bath->pressure / bath->cell_mass;
+    const double rate =
+        std::abs(bath->strain_rate) + options_.dt * bath->pressure / bath->cell_mass;
     fastest += rate * scene_.cell.size.maxCoeff();
   }
   return std::max(options_.margin, 4.0 * options_.dt * fastest);
@@ -67,7 +69,8 @@ StepReport Simulation::Step() {
   impulses_.assign(contacts.size(), Eigen::Vector2d::Zero());
   const int stride = assembled.problem.UnknownsPerContact();
   for (int k = 0; k < assembled.problem.NumContacts(); ++k) {
-    Eigen::Vector2d r(result.impulses[k * stride], stride == 2 ? result.impulses[k * stride + 1] : 0.0);
+    Eigen::Vector2d r(result.impulses[k * stride],
+                      stride == 2 ? result.impulses[k * stride + 1] : 0.0);
     impulses_[assembled.source_contact[k]] = r;
     if (r[0] != 0.0) ++report.active_contacts;
   }
@@ -75,7 +78,9 @@ StepReport Simulation::Step() {
   Integrate(assembled, result.impulses);
 
   for (const Particle& q : scene_.particles) {
-    if (!q.fixed) report.kinetic_energy += 0.5 * q.Mass() * q.velocity.squaredNorm() + 0.5 * q.Inertia() * q.spin * q.spin;
+    if (!q.fixed)
+      report.kinetic_energy +=
+          0.5 * q.Mass() * q.velocity.squaredNorm() + 0.5 * q.Inertia() * q.spin * q.spin;
   }
   return report;
 }
@@ -111,7 +116,8 @@ std::vector<ContactForce> Simulation::WarmStartImpulses() const {
   std::vector<ContactForce> out;
   for (std::size_t k = 0; k < contacts_.size(); ++k) {
     if (impulses_[k][0] == 0.0 && impulses_[k][1] == 0.0) continue;
-    out.push_back({contacts_[k].i, contacts_[k].j, contacts_[k].image, impulses_[k][0], impulses_[k][1]});
+    out.push_back(
+        {contacts_[k].i, contacts_[k].j, contacts_[k].image, impulses_[k][0], impulses_[k][1]});
   }
   return out;
 }

@@ -27,8 +27,9 @@ TEST(HangingGrains, AGrainWedgedFromAboveHangsAndOneRestingBelowDoesNot) {
   scene.cell.size = Vec2(40.0, 40.0);
   scene.effects.gravity = Vec2(0.0, -1.0);
   const double drop = std::sqrt(1.25);
-  scene.particles = {Disk(9.0, 10.0, 1.0, true), Disk(11.0, 10.0, 1.0, true), Disk(10.0, 10.0 - drop, 0.5),
-                     Disk(19.0, 10.0, 1.0, true), Disk(21.0, 10.0, 1.0, true), Disk(20.0, 10.0 + drop, 0.5),
+  scene.particles = {Disk(9.0, 10.0, 1.0, true),   Disk(11.0, 10.0, 1.0, true),
+                     Disk(10.0, 10.0 - drop, 0.5), Disk(19.0, 10.0, 1.0, true),
+                     Disk(21.0, 10.0, 1.0, true),  Disk(20.0, 10.0 + drop, 0.5),
                      Disk(30.0, 30.0, 0.5)};
   const std::vector<Contact> contacts = DetectContacts(scene, 1e-9);
   ASSERT_EQ(contacts.size(), 4u);

@@ -196,7 +196,7 @@ TEST(StatisticsExponentialTail, RecoversTheScale) {
 
 TEST(StatisticsExponentialTail, KnownSamplesAndEmptyTail) {
   const ExponentialTailFit fit = FitExponentialTail({0.5, 1.0, 2.0, 4.0}, 1.0);
-  EXPECT_EQ(fit.count, 2);  // strictly above the threshold
+  EXPECT_EQ(fit.count, 2);           // strictly above the threshold
   EXPECT_DOUBLE_EQ(fit.scale, 2.0);  // mean of 1 and 3
   const ExponentialTailFit none = FitExponentialTail({0.5, 1.0}, 1.0);
   EXPECT_EQ(none.count, 0);

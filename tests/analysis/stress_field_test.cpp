@@ -24,7 +24,9 @@ GridSpec Grid(double side, int nx, int ny, bool periodic_x = false, bool periodi
   return g;
 }
 
-StressSegment Segment(Vec2 start, Vec2 branch, Vec2 force) { return StressSegment{start, branch, force}; }
+StressSegment Segment(Vec2 start, Vec2 branch, Vec2 force) {
+  return StressSegment{start, branch, force};
+}
 
 Eigen::Matrix2d Outer(const Vec2& f, const Vec2& l) { return f * l.transpose(); }
 
@@ -168,8 +170,8 @@ TEST(StressField, MixedPeriodicityWrapsXAndDropsY) {
 }
 
 TEST(StressField, ZeroLengthSegmentContributesNothing) {
-  const StressGrid s =
-      CoarseGrainedStress(Grid(1.0, 2, 2), {Segment(Vec2(-5.0, 0.5), Vec2::Zero(), Vec2(1.0, 1.0))});
+  const StressGrid s = CoarseGrainedStress(
+      Grid(1.0, 2, 2), {Segment(Vec2(-5.0, 0.5), Vec2::Zero(), Vec2(1.0, 1.0))});
   for (const Eigen::Matrix2d& box : s.stress) EXPECT_TRUE(box.isZero(0.0));
   EXPECT_EQ(s.lost_length, 0.0);
 }
@@ -177,7 +179,8 @@ TEST(StressField, ZeroLengthSegmentContributesNothing) {
 TEST(StressField, BadInputThrows) {
   EXPECT_THROW(CoarseGrainedStress(Grid(1.0, 0, 2), {}), std::invalid_argument);
   EXPECT_THROW(CoarseGrainedStress(Grid(0.0, 2, 2), {}), std::invalid_argument);
-  const StressSegment nan_segment = Segment(Vec2(std::numeric_limits<double>::quiet_NaN(), 0.0), Vec2(1.0, 0.0), Vec2(1.0, 0.0));
+  const StressSegment nan_segment =
+      Segment(Vec2(std::numeric_limits<double>::quiet_NaN(), 0.0), Vec2(1.0, 0.0), Vec2(1.0, 0.0));
   EXPECT_THROW(CoarseGrainedStress(Grid(1.0, 2, 2), {nan_segment}), std::invalid_argument);
   EXPECT_THROW(CellGrid(Cell{}, 0.0, Vec2::Zero(), Vec2::Ones()), std::invalid_argument);
 }
@@ -187,8 +190,8 @@ TEST(StressCellGrid, TilesAPeriodicCellExactly) {
   cell.size = Vec2(10.0, 7.0);
   cell.periodicity = Periodicity::kXY;
   const GridSpec g = CellGrid(cell, 1.3, Vec2(3.0, 3.0), Vec2(4.0, 4.0));  // extent unused
-  EXPECT_EQ(g.nx, 8);  // round(7.69)
-  EXPECT_EQ(g.ny, 5);  // round(5.38)
+  EXPECT_EQ(g.nx, 8);                                                      // round(7.69)
+  EXPECT_EQ(g.ny, 5);                                                      // round(5.38)
   EXPECT_EQ(g.origin, Vec2::Zero());
   EXPECT_EQ(g.side.x(), 10.0 / 8);
   EXPECT_EQ(g.side.y(), 7.0 / 5);

@@ -21,7 +21,7 @@ struct SceneSpec {
   double aspect = 1.0;  // Lx / Ly
   Periodicity periodicity = Periodicity::kNone;
   bool walls = false;
-  bool fixed = false;   // make every fifth particle fixed
+  bool fixed = false;  // make every fifth particle fixed
   std::uint64_t seed = 1;
 };
 
@@ -103,8 +103,12 @@ TEST(BroadPhase, MatchesBruteForceOnRandomScenes) {
     for (double packing : {0.1, 0.8, 1.6}) {
       for (double aspect : {1.0, 5.0, 0.2}) {
         for (bool extras : {false, true}) {
-          SceneSpec spec{.n = 250, .packing = packing, .aspect = aspect,
-                         .periodicity = periodicity, .walls = extras, .fixed = extras,
+          SceneSpec spec{.n = 250,
+                         .packing = packing,
+                         .aspect = aspect,
+                         .periodicity = periodicity,
+                         .walls = extras,
+                         .fixed = extras,
                          .seed = ++seed};
           const Scene scene = RandomScene(spec);
           for (double margin : {0.0, 1e-9, 0.3}) {
@@ -121,8 +125,12 @@ TEST(BroadPhase, MatchesBruteForceOnRandomScenes) {
 TEST(BroadPhase, MatchesBruteForceForSmallAndLargeCounts) {
   for (int n : {0, 1, 2, 3, 7, 1000}) {
     for (Periodicity periodicity : {Periodicity::kNone, Periodicity::kXY}) {
-      SceneSpec spec{.n = n, .packing = 0.9, .periodicity = periodicity, .walls = true,
-                     .fixed = true, .seed = static_cast<std::uint64_t>(n) + 7};
+      SceneSpec spec{.n = n,
+                     .packing = 0.9,
+                     .periodicity = periodicity,
+                     .walls = true,
+                     .fixed = true,
+                     .seed = static_cast<std::uint64_t>(n) + 7};
       ExpectMatchesBruteForce(RandomScene(spec), 1e-9, Describe(spec, 1e-9));
     }
   }
@@ -134,7 +142,8 @@ TEST(BroadPhase, EveryContactIsFoundByItsKey) {
   const std::vector<Contact> contacts = DetectContacts(s, 1e-6);
   ASSERT_FALSE(contacts.empty());
   for (std::size_t k = 0; k < contacts.size(); ++k) {
-    EXPECT_EQ(FindContact(contacts, contacts[k].i, contacts[k].j, contacts[k].image), static_cast<int>(k));
+    EXPECT_EQ(FindContact(contacts, contacts[k].i, contacts[k].j, contacts[k].image),
+              static_cast<int>(k));
   }
   EXPECT_EQ(FindContact(contacts, contacts[0].i, contacts[0].j, {7, 7}), -1);
 }
@@ -175,8 +184,8 @@ TEST(BroadPhase, ParticlesOnTheCellEdges) {
 // reference's contacts (binning wraps, the geometry uses the stored positions).
 TEST(BroadPhase, PositionsSlightlyOutsideTheCell) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
-    SceneSpec spec{.n = 300, .packing = 0.8, .aspect = 2.0, .periodicity = Periodicity::kXY,
-                   .seed = seed};
+    SceneSpec spec{
+        .n = 300, .packing = 0.8, .aspect = 2.0, .periodicity = Periodicity::kXY, .seed = seed};
     Scene scene = RandomScene(spec);
     const Vec2 size = scene.cell.size;
     const double offsets[] = {-1e-12, 1e-12, -0.4, 0.4, -1e-300};

@@ -37,7 +37,8 @@ TEST(AdmissibleForces, FrictionlessVGrooveHasTheUniqueAnalyticForces) {
   const AdmissibleForces a = NearestAdmissibleForces(sys, Eigen::VectorXd::Zero(sys.NumUnknowns()));
   ASSERT_EQ(a.status, AdmissibleStatus::kAdmissible) << a.message;
   const double weight = s.particles[2].Mass();
-  for (int k = 0; k < 2; ++k) EXPECT_NEAR(a.forces[k], weight / (2.0 * std::cos(alpha)), 1e-13 * weight);
+  for (int k = 0; k < 2; ++k)
+    EXPECT_NEAR(a.forces[k], weight / (2.0 * std::cos(alpha)), 1e-13 * weight);
   EXPECT_LT(a.balance_residual, 1e-14);
 }
 
@@ -78,11 +79,13 @@ TEST(AdmissibleForces, ADiskOffTheTopOfAFixedDiskIsNotStatic) {
   s.cell.size = Vec2(10, 10);
   s.effects.gravity = Vec2(0.0, -1.0);
   const double angle = 0.3;  // contact normal tilted from the vertical: it would roll off
-  s.particles = {Disk(0.0, 0.0, 1.0, true), Disk(2.0 * std::sin(angle), 2.0 * std::cos(angle), 1.0)};
+  s.particles = {Disk(0.0, 0.0, 1.0, true),
+                 Disk(2.0 * std::sin(angle), 2.0 * std::cos(angle), 1.0)};
   for (double mu : {0.0, 0.5}) {
     s.effects.friction = mu;
     const EquilibriumSystem sys = BuildEquilibriumSystem(s);
-    const AdmissibleForces a = NearestAdmissibleForces(sys, Eigen::VectorXd::Zero(sys.NumUnknowns()));
+    const AdmissibleForces a =
+        NearestAdmissibleForces(sys, Eigen::VectorXd::Zero(sys.NumUnknowns()));
     EXPECT_EQ(a.status, AdmissibleStatus::kInfeasible) << "mu " << mu << ": " << a.message;
   }
 }
@@ -113,11 +116,13 @@ TEST(AdmissibleForces, LinearProgramKeepsAnAdmissibleReferenceAndBalancesAStack)
   const AdmissibleForces again = NearestAdmissibleForces(g, exact.forces, lp);
   ASSERT_EQ(again.status, AdmissibleStatus::kAdmissible) << again.message;
   EXPECT_EQ(again.method, "linear-program");
-  EXPECT_LT((again.forces - exact.forces).lpNorm<Eigen::Infinity>(), 1e-12) << "L1 distance 0 is optimal";
+  EXPECT_LT((again.forces - exact.forces).lpNorm<Eigen::Infinity>(), 1e-12)
+      << "L1 distance 0 is optimal";
 
   const Scene stack = testing::Stack(4, 0.5, 1.0, 0.0);
   const EquilibriumSystem st = BuildEquilibriumSystem(stack);
-  const AdmissibleForces a = NearestAdmissibleForces(st, Eigen::VectorXd::Zero(st.NumUnknowns()), lp);
+  const AdmissibleForces a =
+      NearestAdmissibleForces(st, Eigen::VectorXd::Zero(st.NumUnknowns()), lp);
   ASSERT_EQ(a.status, AdmissibleStatus::kAdmissible) << a.message;
   EXPECT_NEAR(a.forces.sum(), stack.particles[0].Mass() * (4 + 3 + 2 + 1), 1e-12);
 }

@@ -71,8 +71,9 @@ TEST(ForceBounds, ClpAndIpoptAgree) {
   const BoundsReport b = ComputeForceBounds(s, AllContacts(s), {}, ipopt);
   ASSERT_TRUE(a.feasible && b.feasible);
   for (std::size_t k = 0; k < a.bounds.size(); ++k) {
-    for (const auto& [x, y] : {std::pair{a.bounds[k].min, b.bounds[k].min}, std::pair{a.bounds[k].max, b.bounds[k].max},
-                               std::pair{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction}}) {
+    for (const auto& [x, y] :
+         {std::pair{a.bounds[k].min, b.bounds[k].min}, std::pair{a.bounds[k].max, b.bounds[k].max},
+          std::pair{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction}}) {
       ASSERT_TRUE(x.ok() && y.ok());
       EXPECT_NEAR(x.value, y.value, 1e-6 * x.value);
     }
@@ -95,7 +96,8 @@ TEST(ForceBounds, FrictionThatCanWedgeTheDiskLeavesNoUpperBound) {
 Scene BetweenWalls(double mu) {
   Scene s;
   s.cell.size = Vec2(2.0, 10.0);
-  s.cell.walls = {Floor(), Wall{Vec2(0.0, 0.0), Vec2(1.0, 0.0)}, Wall{Vec2(2.0, 0.0), Vec2(-1.0, 0.0)}};
+  s.cell.walls = {Floor(), Wall{Vec2(0.0, 0.0), Vec2(1.0, 0.0)},
+                  Wall{Vec2(2.0, 0.0), Vec2(-1.0, 0.0)}};
   s.effects.gravity = Vec2(0.0, -1.0);
   s.effects.friction = mu;
   s.particles = {Disk(1.0, 1.0, 1.0)};
@@ -120,7 +122,7 @@ TEST(ForceBounds, HyperstaticDiskBetweenWallsHasAFreeSqueeze) {
     }
   }
   EXPECT_EQ(floors, 1);
-  EXPECT_EQ(ForceIndeterminacy(s).dimension, 1);                                    // 3 − 2
+  EXPECT_EQ(ForceIndeterminacy(s).dimension, 1);                                          // 3 − 2
   EXPECT_EQ(ForceIndeterminacy(BuildEquilibriumSystem(BetweenWalls(0.5))).dimension, 3);  // 6 − 3
 }
 
@@ -136,7 +138,8 @@ TEST(ForceBounds, AnUnsupportedDiskHasNoAdmissibleNetwork) {
 }
 
 TEST(ForceBounds, FrictionlessPackingIsIsostaticWithZeroWidths) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   const BoundsReport r = ComputeForceBounds(s, AllContacts(s), StoredForcesOf(s, scene.forces));
   ASSERT_TRUE(r.feasible);
@@ -153,7 +156,8 @@ TEST(ForceBounds, FrictionlessPackingIsIsostaticWithZeroWidths) {
 // A pile under gravity: the stored (static) forces are one admissible network, so every
 // interval holds them. CLP's dual simplex once called this ensemble infeasible.
 TEST(ForceBounds, PileIntervalsHoldTheStoredForces) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   const BoundsReport r = ComputeForceBounds(s, AllContacts(s), StoredForcesOf(s, scene.forces));
   ASSERT_TRUE(r.feasible) << r.message;
@@ -168,7 +172,8 @@ TEST(ForceBounds, PileIntervalsHoldTheStoredForces) {
 
 // Warm starts, cold starts and threads give the same bounds.
 TEST(ForceBounds, WarmColdAndThreadedAgree) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   const std::vector<int> some = {0, 17, 101, 230, 402, 599};
   BoundsOptions warm, cold, threaded;
@@ -178,10 +183,11 @@ TEST(ForceBounds, WarmColdAndThreadedAgree) {
   const BoundsReport b = ComputeForceBounds(s, some, {}, cold);
   const BoundsReport c = ComputeForceBounds(s, some, {}, threaded);
   for (std::size_t k = 0; k < some.size(); ++k) {
-    for (const auto& [x, y, z] : {std::tuple{a.bounds[k].min, b.bounds[k].min, c.bounds[k].min},
-                                  std::tuple{a.bounds[k].max, b.bounds[k].max, c.bounds[k].max},
-                                  std::tuple{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction,
-                                             c.bounds[k].max_without_friction}}) {
+    for (const auto& [x, y, z] :
+         {std::tuple{a.bounds[k].min, b.bounds[k].min, c.bounds[k].min},
+          std::tuple{a.bounds[k].max, b.bounds[k].max, c.bounds[k].max},
+          std::tuple{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction,
+                     c.bounds[k].max_without_friction}}) {
       ASSERT_EQ(x.status, y.status);
       ASSERT_EQ(x.status, z.status);
       if (!x.ok()) continue;
@@ -195,7 +201,8 @@ TEST(ForceBounds, WarmColdAndThreadedAgree) {
 // contact seen without force has min 0; a maximum reached without tangential force is
 // also the maximum without friction) give the bounds of running every LP.
 TEST(ForceBounds, ShortcutsGiveTheBoundsOfEveryLp) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   // The contacts of a band along the bottom: neighbours, whose networks answer each other.
   double low = s.contact_points[0].y(), high = low;
@@ -218,8 +225,10 @@ TEST(ForceBounds, ShortcutsGiveTheBoundsOfEveryLp) {
     EXPECT_GE(a.lps_skipped, 3);  // the shortcuts are taken (5 here)
     EXPECT_EQ(b.lps_skipped, 0);
     for (std::size_t k = 0; k < some.size(); ++k) {
-      for (const auto& [x, y] : {std::pair{a.bounds[k].min, b.bounds[k].min}, std::pair{a.bounds[k].max, b.bounds[k].max},
-                                 std::pair{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction}}) {
+      for (const auto& [x, y] :
+           {std::pair{a.bounds[k].min, b.bounds[k].min},
+            std::pair{a.bounds[k].max, b.bounds[k].max},
+            std::pair{a.bounds[k].max_without_friction, b.bounds[k].max_without_friction}}) {
         ASSERT_EQ(x.status, y.status) << "contact " << some[k];
         if (x.ok()) {
           EXPECT_NEAR(x.value, y.value, 1e-9 * s.force_scale) << "contact " << some[k];
@@ -233,7 +242,8 @@ TEST(ForceBounds, ShortcutsGiveTheBoundsOfEveryLp) {
 // (an interrupted run's records) solves only the others, to the same bounds; a run whose
 // time is up starts no LP and says it is incomplete.
 TEST(ForceBounds, ARunResumesFromTheBoundsItReported) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   const std::vector<int> some = {0, 17, 101, 230, 402, 599, 600, 601};
   // Time up before the first LP: only the feasibility LP runs, and nothing is reported.
@@ -253,7 +263,8 @@ TEST(ForceBounds, ARunResumesFromTheBoundsItReported) {
   ASSERT_EQ(reported.size(), 3 * some.size());  // max, max without friction and min of each
   long long iterations = 0;
   for (const BoundRecord& r : reported) iterations += r.iterations;
-  EXPECT_EQ(iterations, a.lp_iterations - none.lp_iterations);  // every LP's but the feasibility LP's
+  EXPECT_EQ(iterations,
+            a.lp_iterations - none.lp_iterations);  // every LP's but the feasibility LP's
 
   BoundsOptions second;
   second.known.assign(reported.begin(), reported.begin() + reported.size() / 2);
@@ -270,20 +281,23 @@ TEST(ForceBounds, ARunResumesFromTheBoundsItReported) {
     ASSERT_EQ(a.bounds[at].Of(r.kind).status, r.bound.status);
     if (!r.bound.ok()) continue;
     EXPECT_EQ(a.bounds[at].Of(r.kind).value, r.bound.value);  // what was reported is the answer
-    EXPECT_NEAR(b.bounds[at].Of(r.kind).value, r.bound.value, 1e-9 * s.force_scale) << ToString(r.kind) << " of " << r.contact;
+    EXPECT_NEAR(b.bounds[at].Of(r.kind).value, r.bound.value, 1e-9 * s.force_scale)
+        << ToString(r.kind) << " of " << r.contact;
   }
 }
 
 // A failure while a block reports its bounds (e.g. its records cannot be written) reaches
 // the caller as the exception it was, from any thread, instead of ending the process.
 TEST(ForceBounds, AFailureInABlockReachesTheCaller) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   for (int threads : {1, 2}) {
     BoundsOptions o;
     o.threads = threads;
     o.on_bound = [](const BoundRecord&) { throw OutputError("records: disk full"); };
-    EXPECT_THROW(ComputeForceBounds(s, {0, 17, 101, 230}, {}, o), OutputError) << threads << " threads";
+    EXPECT_THROW(ComputeForceBounds(s, {0, 17, 101, 230}, {}, o), OutputError)
+        << threads << " threads";
   }
 }
 
@@ -307,8 +321,10 @@ TEST(ForceBounds, TheRecordsOfARunMakeItsReportWithoutAnLp) {
       EXPECT_EQ(made.bounds[a].contact, some[a]);
       EXPECT_EQ(made.bounds[a].reference, run.bounds[a].reference);
       for (BoundKind kind : {BoundKind::kMax, BoundKind::kMaxWithoutFriction, BoundKind::kMin}) {
-        EXPECT_EQ(made.bounds[a].Of(kind).status, run.bounds[a].Of(kind).status) << name << " " << ToString(kind);
-        EXPECT_EQ(made.bounds[a].Of(kind).value, run.bounds[a].Of(kind).value) << name << " " << ToString(kind);
+        EXPECT_EQ(made.bounds[a].Of(kind).status, run.bounds[a].Of(kind).status)
+            << name << " " << ToString(kind);
+        EXPECT_EQ(made.bounds[a].Of(kind).value, run.bounds[a].Of(kind).value)
+            << name << " " << ToString(kind);
       }
     }
     records.pop_back();  // a bound no process obtained
@@ -319,7 +335,8 @@ TEST(ForceBounds, TheRecordsOfARunMakeItsReportWithoutAnLp) {
 // Processes sharing the contacts (mpirun): share s of 2 on one thread solves the block of
 // thread s of one process on two threads, bit for bit, and only that block.
 TEST(ForceBounds, TwoSharesAreTheBlocksOfTwoThreads) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   const std::vector<int> some = {0, 17, 101, 230, 402, 599, 600};
   BoundsOptions two_threads;
@@ -359,7 +376,8 @@ namespace {
 // The rank against a dense SVD, whose singular values jump from 1e-2 to 1e-15 here: the
 // QR of A alone overestimated it by one on this packing.
 TEST(ForceIndeterminacy, RankMatchesADenseSvd) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   const Eigen::BDCSVD<Eigen::MatrixXd> svd{Eigen::MatrixXd(s.matrix)};
   const Eigen::VectorXd& sv = svd.singularValues();

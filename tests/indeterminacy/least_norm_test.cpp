@@ -45,7 +45,8 @@ TEST(LeastNorm, TheDenseColumnByWoodburyGivesThePlainFactorisationsSolution) {
   // The same bound for both (the misses are round-off through the ridge, and which one is
   // smaller depends on the BLAS: OpenBLAS gave 8.4e-10 against 6.6e-10).
   EXPECT_LT((g * x_woodbury - r).lpNorm<Eigen::Infinity>(), 1e-8);
-  EXPECT_LT((x_woodbury - x_plain).lpNorm<Eigen::Infinity>(), 1e-10 * x_plain.lpNorm<Eigen::Infinity>());
+  EXPECT_LT((x_woodbury - x_plain).lpNorm<Eigen::Infinity>(),
+            1e-10 * x_plain.lpNorm<Eigen::Infinity>());
 }
 
 TEST(LeastNorm, WithoutADenseColumnBothPathsAreTheSame) {

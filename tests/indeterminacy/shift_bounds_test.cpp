@@ -65,11 +65,12 @@ TEST(ShiftBounds, LiftingADiskOutOfAGrooveOpensBothSupports) {
 }
 
 // The LPs from the unperturbed ensemble's basis and from the slack basis find the same
-// bounds, on one thread and on two. Where the shift opens no contact, the stored network is one of its admissible
-// networks, and its F_crit lies in [min, max] (a bottom shift unloads the bed, which
+// bounds, on one thread and on two. Where the shift opens no contact, the stored network is one of
+// its admissible networks, and its F_crit lies in [min, max] (a bottom shift unloads the bed, which
 // carried the grain: the stored network is then not admissible).
 TEST(ShiftBounds, WarmStartsAgreeWithLpsFromScratchOnThePile) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   const PerturbationBase base = PreparePerturbations(scene, PerturbationOptions{});
   std::vector<ShiftTarget> shifts;
   for (const auto& targets : {TopTargets(base), BottomTargets(base)}) {
@@ -80,10 +81,12 @@ TEST(ShiftBounds, WarmStartsAgreeWithLpsFromScratchOnThePile) {
   BoundsOptions cold;
   cold.warm_start = false;
   const ShiftBoundsReport warm = ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces));
-  const ShiftBoundsReport scratch = ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces), cold);
+  const ShiftBoundsReport scratch =
+      ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces), cold);
   BoundsOptions two;
   two.threads = 2;
-  const ShiftBoundsReport threaded = ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces), two);
+  const ShiftBoundsReport threaded =
+      ComputeShiftBounds(s, shifts, StoredForcesOf(s, scene.forces), two);
   ASSERT_TRUE(warm.feasible && scratch.feasible && threaded.feasible);
   int bounded = 0, opened = 0;
   for (std::size_t a = 0; a < shifts.size(); ++a) {

@@ -22,7 +22,8 @@ class AtomicWrite : public testing::TempDirTest {
   // Every entry of the test directory, by name.
   std::vector<std::string> Entries() const {
     std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename().string());
+    for (const auto& entry : fs::directory_iterator(dir_))
+      names.push_back(entry.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;
   }
@@ -81,7 +82,9 @@ TEST_F(AtomicWrite, WritePackingThenReadPackingRoundTrips) {
   EXPECT_EQ(Entries(), std::vector<std::string>{"scene.unjam"});
 }
 
-TEST_F(AtomicWrite, ReadingADirectoryIsAnInputError) { EXPECT_THROW(ReadPacking(dir_), InputError); }
+TEST_F(AtomicWrite, ReadingADirectoryIsAnInputError) {
+  EXPECT_THROW(ReadPacking(dir_), InputError);
+}
 
 }  // namespace
 }  // namespace unjam

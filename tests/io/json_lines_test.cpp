@@ -59,7 +59,8 @@ TEST_F(JsonLinesTest, AHeaderOfOtherParametersIsRefusedNamingTheKeys) {
     FAIL();
   } catch (const std::invalid_argument& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("(gap, mode, extra)"), std::string::npos) << what;  // not the equal key "run"
+    EXPECT_NE(what.find("(gap, mode, extra)"), std::string::npos)
+        << what;  // not the equal key "run"
     EXPECT_NE(what.find("r.jsonl"), std::string::npos) << what;
     EXPECT_NE(what.find("remove it"), std::string::npos) << what;
   }
@@ -102,11 +103,17 @@ TEST_F(JsonLinesTest, AFileWithoutItsHeaderLineHoldsNothingYet) {
   EXPECT_FALSE(HasHeaderLine(dir_ / "missing.jsonl"));
   EXPECT_EQ(RankFiles(first), std::vector<std::filesystem::path>{first});
 
-  { std::ofstream own = AppendTo(torn, {{"run", 1}}); own << "{\"a\":1}\n"; }
+  {
+    std::ofstream own = AppendTo(torn, {{"run", 1}});
+    own << "{\"a\":1}\n";
+  }
   const JsonLines restarted = ReadJsonLines(torn);
   EXPECT_EQ(restarted.header, nlohmann::json({{"run", 1}}));
   ASSERT_EQ(restarted.lines.size(), 1u);
-  { std::ofstream own = AppendTo(torn, {{"run", 1}}); own << "{\"a\":2}\n"; }  // appends
+  {
+    std::ofstream own = AppendTo(torn, {{"run", 1}});
+    own << "{\"a\":2}\n";
+  }  // appends
   EXPECT_EQ(ReadJsonLines(torn).lines.size(), 2u);
 
   MergeRankFiles(first, {{"run", 1}}, "remedy");

@@ -28,11 +28,12 @@ inline std::string JoinLines(const std::vector<std::string>& lines) {
 
 // Replaces one whitespace-separated token with a hostile or plausible value.
 inline std::string ReplaceToken(const std::string& text, std::mt19937_64& rng) {
-  static const char* kValues[] = {"nan",        "-inf",        "1e400",  "1e-400",    "-1",
-                                  "0",          "-0",          "1.0abc", "",          "99999999999999999999",
-                                  "2147483648", "-2147483649", "1",      "2",         "0.30000000000000004",
-                                  "5e-324",     "#",           "end",    "particles", "+",
-                                  "."};
+  static const char* kValues[] = {
+      "nan",        "-inf",        "1e400",  "1e-400",    "-1",
+      "0",          "-0",          "1.0abc", "",          "99999999999999999999",
+      "2147483648", "-2147483649", "1",      "2",         "0.30000000000000004",
+      "5e-324",     "#",           "end",    "particles", "+",
+      "."};
   std::vector<std::size_t> starts;
   for (std::size_t k = 0; k < text.size(); ++k) {
     if (text[k] != ' ' && text[k] != '\n' && (k == 0 || text[k - 1] == ' ' || text[k - 1] == '\n'))
@@ -70,11 +71,10 @@ inline std::string Mutate(std::string text, std::mt19937_64& rng) {
         text = JoinLines(lines);
         break;
       }
-      case 4:
-        text = ReplaceToken(text, rng);
-        break;
+      case 4: text = ReplaceToken(text, rng); break;
       default:  // insert random bytes
-        text.insert(rng() % text.size(), std::string(1 + rng() % 8, static_cast<char>(rng() % 256)));
+        text.insert(rng() % text.size(),
+                    std::string(1 + rng() % 8, static_cast<char>(rng() % 256)));
         break;
     }
   }

@@ -39,7 +39,8 @@ TEST_F(OutputLockTest, ASecondHolderIsRefusedNamingTheOutputTheLockAndTheFirst) 
   const std::string refusal = Refusal(path);
   EXPECT_NE(refusal.find("out is being written by another run"), std::string::npos) << refusal;
   EXPECT_NE(refusal.find(path.string()), std::string::npos) << refusal;
-  EXPECT_NE(refusal.find("process " + std::to_string(::getpid()) + " on "), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find("process " + std::to_string(::getpid()) + " on "), std::string::npos)
+      << refusal;
   first.reset();
   EXPECT_FALSE(fs::exists(path)) << "released, the lock file is removed";
   EXPECT_EQ(Refusal(path), "");

@@ -68,7 +68,8 @@ TEST_P(PackingErrors, RaisesInputErrorWithLineAndMessage) {
     EXPECT_EQ(e.file(), "case.unjam");
     EXPECT_EQ(e.line(), c.line) << e.what();
     EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
-    EXPECT_EQ(std::string(e.what()).rfind("case.unjam:" + std::to_string(c.line) + ": ", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("case.unjam:" + std::to_string(c.line) + ": ", 0), 0u)
+        << e.what();
   }
 }
 
@@ -102,15 +103,20 @@ std::vector<ErrorCase> Cases() {
       {"BadFixedFlag", Replace(8, "0.5 1.5 0 0 0 0 0.5 1 2"), 8, "fixed must be 0 or 1"},
       {"ZeroCell", Replace(2, "cell 0 4"), 2, "cell size must be positive"},
       {"NegativeCell", Replace(2, "cell 4 -4"), 2, "cell size must be positive"},
-      {"FewerParticlesThanDeclared", Replace(5, "particles 4"), 9, "expected 4 particle line(s), found 3"},
-      {"MoreParticlesThanDeclared", Replace(5, "particles 2"), 8, "more particle lines than the declared 2"},
+      {"FewerParticlesThanDeclared", Replace(5, "particles 4"), 9,
+       "expected 4 particle line(s), found 3"},
+      {"MoreParticlesThanDeclared", Replace(5, "particles 2"), 8,
+       "more particle lines than the declared 2"},
       {"NegativeCount", Replace(5, "particles -1"), 5, "particle count"},
       {"NonIntegerCount", Replace(5, "particles 2.5"), 5, "particle count"},
       {"AbsurdCount", Replace(5, "particles 99999999999999999999"), 5, "particle count"},
-      {"LargeCountSmallFile", Replace(5, "particles 2000000000"), 9, "expected 2000000000 particle"},
+      {"LargeCountSmallFile", Replace(5, "particles 2000000000"), 9,
+       "expected 2000000000 particle"},
       {"UnknownKey", InsertBefore(2, "colour red"), 2, "unknown key 'colour'"},
-      {"BinaryKey", InsertBefore(2, std::string("\x01\xff\0x", 4)), 2, "unknown key '\\x01\\xff\\x00x'"},
-      {"DuplicateCell", InsertBefore(3, "cell 5 5"), 3, "duplicate key 'cell' (first given on line 2)"},
+      {"BinaryKey", InsertBefore(2, std::string("\x01\xff\0x", 4)), 2,
+       "unknown key '\\x01\\xff\\x00x'"},
+      {"DuplicateCell", InsertBefore(3, "cell 5 5"), 3,
+       "duplicate key 'cell' (first given on line 2)"},
       {"DuplicateFriction", InsertBefore(5, "friction 0.1"), 5, "duplicate key 'friction'"},
       {"NegativeFriction", Replace(4, "friction -0.1"), 4, "friction must not be negative"},
       {"UnknownPeriodicity", Replace(3, "periodic y"), 3, "periodic must be none, x or xy"},
@@ -124,13 +130,18 @@ std::vector<ErrorCase> Cases() {
       {"ForceImageTooLarge", InsertBefore(9, "forces 1\n0 1 2 0 1 0"), 10, "image x"},
       {"ForceDuplicated", InsertBefore(9, "forces 2\n0 1 0 0 1 0\n0 1 0 0 2 0"), 11,
        "duplicate force of particles 0 and 1 (image 0 0; first given on line 10)"},
-      {"ForceDuplicatedReversed", InsertBefore(9, "forces 3\n0 2 0 0 1 0\n0 1 1 0 1 0\n1 0 -1 0 1 0"), 12,
+      {"ForceDuplicatedReversed",
+       InsertBefore(9, "forces 3\n0 2 0 0 1 0\n0 1 1 0 1 0\n1 0 -1 0 1 0"), 12,
        "duplicate force of particles 1 and 0 (image -1 0; first given on line 11)"},
-      {"ForceDuplicatedOnWall", Replace(3, "periodic x\nwall 0 0 0 1\nforces 2\n0 -1 0 0 1 0\n0 -1 0 0 1 0"), 7,
+      {"ForceDuplicatedOnWall",
+       Replace(3, "periodic x\nwall 0 0 0 1\nforces 2\n0 -1 0 0 1 0\n0 -1 0 0 1 0"), 7,
        "duplicate force of particle 0 on wall 0 (first given on line 6)"},
-      {"ForceNegativeNormal", InsertBefore(9, "forces 1\n0 1 0 0 -1e-300 0"), 10, "normal force must not be negative"},
-      {"ForceMissingLine", InsertBefore(9, "forces 2\n0 1 0 0 1 0"), 11, "expected 2 force line(s), found 1"},
-      {"MotionOutOfRange", InsertBefore(5, "prescribed-motion 3 0 0 0"), 5, "out of range (3 particles)"},
+      {"ForceNegativeNormal", InsertBefore(9, "forces 1\n0 1 0 0 -1e-300 0"), 10,
+       "normal force must not be negative"},
+      {"ForceMissingLine", InsertBefore(9, "forces 2\n0 1 0 0 1 0"), 11,
+       "expected 2 force line(s), found 1"},
+      {"MotionOutOfRange", InsertBefore(5, "prescribed-motion 3 0 0 0"), 5,
+       "out of range (3 particles)"},
       {"MotionTwice", InsertBefore(5, "prescribed-motion 1 0 0 0\nprescribed-motion 1 1 0 0"), 6,
        "already has"},
       {"GapOutOfRange", InsertBefore(5, "prescribed-gap 0 5 0 0 0"), 5, "out of range"},
@@ -139,14 +150,17 @@ std::vector<ErrorCase> Cases() {
        "image y must be 0"},
       {"OutsidePeriodicCell", Replace(7, "4 0.5 0 0 0 0 0.5 1 0"), 7,
        "x = 4 lies outside the periodic cell [0, 4)"},
-      {"NegativeInPeriodicCell", Replace(8, "0.5 -0.25 0 0 0 0 0.5 1 0"), 8, "y = -0.25 lies outside"},
+      {"NegativeInPeriodicCell", Replace(8, "0.5 -0.25 0 0 0 0 0.5 1 0"), 8,
+       "y = -0.25 lies outside"},
       {"Overlap", Replace(7, "1.25 0.5 0 0 0 0 0.5 1 0"), 7, "particles 0 and 1 overlap by 0.25"},
       {"OverlapAcrossBoundary", Replace(7, "3.75 0.5 0 0 0 0 0.5 1 0"), 7,
        "particles 0 and 1 overlap by 0.25"},
-      {"WallOverlap", Replace(3, "periodic none\nwall 0 0.25 0 1"), 7, "particle 0 overlaps wall 0 by 0.25"},
+      {"WallOverlap", Replace(3, "periodic none\nwall 0 0.25 0 1"), 7,
+       "particle 0 overlaps wall 0 by 0.25"},
       {"CellTooSmall", Replace(8, "0.5 1.5 0 0 0 0 1.5 1 0"), 2, "too small"},
       {"MissingEnd", Join({kValid.begin(), kValid.end() - 1}), 8, "truncated: missing 'end'"},
-      {"TruncatedParticles", Join({kValid.begin(), kValid.begin() + 6}), 6, "truncated: expected 3 particle"},
+      {"TruncatedParticles", Join({kValid.begin(), kValid.begin() + 6}), 6,
+       "truncated: expected 3 particle"},
       {"ContentAfterEnd", Join(kValid) + "cell 1 1\n", 10, "after 'end'"},
       {"EndWithValue", Replace(9, "end now"), 9, "expects 0 value"},
       {"MissingCell", Replace(2, "# no cell"), 9, "missing 'cell'"},
@@ -161,14 +175,19 @@ std::vector<ErrorCase> Cases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllClasses, PackingErrors, ::testing::ValuesIn(Cases()),
-                         [](const ::testing::TestParamInfo<ErrorCase>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<ErrorCase>& info) {
+                           return info.param.name;
+                         });
 
-TEST(PackingErrorsBase, TheBaseFileIsValid) { EXPECT_NO_THROW(ParsePacking(Join(kValid), "base.unjam")); }
+TEST(PackingErrorsBase, TheBaseFileIsValid) {
+  EXPECT_NO_THROW(ParsePacking(Join(kValid), "base.unjam"));
+}
 
 // Two contacts of one pair through different periodic images are two contacts; a normal
 // force of −0 is zero.
 TEST(PackingErrorsBase, ForcesOfOnePairAtOtherImagesAndNegativeZeroAreAccepted) {
-  const Scene scene = ParsePacking(InsertBefore(9, "forces 3\n0 1 0 0 1 0\n0 1 -1 0 1 0\n1 0 -1 0 -0 0"), "images.unjam");
+  const Scene scene = ParsePacking(
+      InsertBefore(9, "forces 3\n0 1 0 0 1 0\n0 1 -1 0 1 0\n1 0 -1 0 -0 0"), "images.unjam");
   EXPECT_EQ(scene.forces.size(), 3u);
 }
 

@@ -167,7 +167,8 @@ TEST(PackingFile, AcceptsCommentsCrlfBomAnyKeyOrderAndPlusSigns) {
 TEST(PackingFile, OverlapToleranceIsAnOption) {
   // Two disks of radius 0.5 whose centres are 1 − 1e-7 apart: overlap 1e-7.
   const std::string text =
-      "unjam-packing 1\ncell 4 4\nparticles 2\n1 1 0 0 0 0 0.5 1 0\n1.9999999 1 0 0 0 0 0.5 1 0\nend\n";
+      "unjam-packing 1\ncell 4 4\nparticles 2\n1 1 0 0 0 0 0.5 1 0\n1.9999999 1 0 0 0 0 0.5 1 "
+      "0\nend\n";
   EXPECT_NO_THROW(ParsePacking(text, "t.unjam"));
   ReadOptions strict;
   strict.overlap_tolerance = 1e-9;
@@ -182,7 +183,8 @@ TEST(PackingFile, FixedDisksMayTouchEachOther) {
 
 // The fuzzer's seed corpus doubles as a set of hand-written example files.
 TEST(PackingFile, SeedCorpusFilesAreValid) {
-  const std::filesystem::path dir = std::filesystem::path(UNJAM_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
+  const std::filesystem::path dir =
+      std::filesystem::path(UNJAM_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
   int files = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     SCOPED_TRACE(entry.path().string());
@@ -224,7 +226,8 @@ TEST(PackingFile, ReadPackingReportsAMissingFile) {
     FAIL() << "no exception";
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 0);
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/x.unjam: cannot open"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/dir/x.unjam: cannot open"),
+              std::string::npos)
         << e.what();
   }
 }

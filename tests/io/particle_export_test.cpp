@@ -51,8 +51,10 @@ class ParticleExport : public testing::TempDirTest {
   static ParticleField ThreeDisksField() {
     ParticleField field;
     field.displacement = {Vec2(0.25, -0.5), Vec2(0.0, 0.0), Vec2(1.0, 2.0)};
-    field.forces = {ContactForce{0, 1, {-1, 0}, 2.0, 0.125}, ContactForce{0, 2, {0, 0}, 1.5, -0.25}};
-    field.force_change = {ContactForce{0, 2, {0, 0}, 0.75, 0.0}, ContactForce{1, 2, {0, 0}, 9.0, 0.0}};
+    field.forces = {ContactForce{0, 1, {-1, 0}, 2.0, 0.125},
+                    ContactForce{0, 2, {0, 0}, 1.5, -0.25}};
+    field.force_change = {ContactForce{0, 2, {0, 0}, 0.75, 0.0},
+                          ContactForce{1, 2, {0, 0}, 9.0, 0.0}};
     return field;
   }
 };

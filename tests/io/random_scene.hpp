@@ -74,7 +74,8 @@ inline void AddRandomEffectsAndForces(Scene& scene, bool walls, std::mt19937_64&
   const int image_y = PeriodicY(scene.cell.periodicity) ? -1 : 0;
   for (int k = 0; n >= 2 && k < 3; ++k) {
     const int i = static_cast<int>(rng() % n);
-    scene.effects.prescribed_gaps.push_back({i, (i + 1) % n, {image_x, image_y}, AnyFiniteDouble(rng)});
+    scene.effects.prescribed_gaps.push_back(
+        {i, (i + 1) % n, {image_x, image_y}, AnyFiniteDouble(rng)});
   }
   // One force line per contact ((i, j, m) and (j, i, -m) are one), none pulling: the reader
   // refuses a second line and a negative normal force.
@@ -90,7 +91,8 @@ inline void AddRandomEffectsAndForces(Scene& scene, bool walls, std::mt19937_64&
     f.normal = std::abs(AnyFiniteDouble(rng));
     f.tangential = AnyFiniteDouble(rng);
     const bool first = wall || f.i < f.j;
-    const auto key = first ? std::make_tuple(f.i, f.j, f.image[0], f.image[1]) : std::make_tuple(f.j, f.i, -f.image[0], -f.image[1]);
+    const auto key = first ? std::make_tuple(f.i, f.j, f.image[0], f.image[1])
+                           : std::make_tuple(f.j, f.i, -f.image[0], -f.image[1]);
     if (contacts.insert(key).second) scene.forces.push_back(f);
   }
 }
@@ -100,7 +102,9 @@ inline Scene RandomScene(std::mt19937_64& rng) {
   const int cols = 2 + static_cast<int>(rng() % 6);
   const int rows = 2 + static_cast<int>(rng() % 5);
   const int mode = static_cast<int>(rng() % 3);
-  scene.cell.periodicity = mode == 0 ? Periodicity::kNone : mode == 1 ? Periodicity::kX : Periodicity::kXY;
+  scene.cell.periodicity = mode == 0   ? Periodicity::kNone
+                           : mode == 1 ? Periodicity::kX
+                                       : Periodicity::kXY;
   // Disks sit near the centres of unit squares: radius ≤ 0.30000000000000004 and jitter
   // ≤ 0.05 keep every gap positive, also across periodic boundaries.
   scene.cell.size = Vec2(cols + std::uniform_real_distribution<double>(0.0, 0.5)(rng),

@@ -24,7 +24,8 @@ TEST(ReadInputText, ReadsAFileUpToTheBoundAndRefusesOneAboveIt) {
     ReadInputText(path, 99);
     FAIL() << "a file above the bound was read";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("unjam-read-text-test.txt"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("unjam-read-text-test.txt"), std::string::npos)
+        << e.what();
   }
   std::filesystem::remove(path);
 }

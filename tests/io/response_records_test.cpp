@@ -35,7 +35,8 @@ ReducedResponse SomeRecord() {
 
 TEST(ResponseRecords, RoundTripIsExact) {
   const ReducedResponse a = SomeRecord();
-  const ReducedResponse b = ReducedResponseFromJson(nlohmann::json::parse(ToJson(a).dump()), "test");
+  const ReducedResponse b =
+      ReducedResponseFromJson(nlohmann::json::parse(ToJson(a).dump()), "test");
   EXPECT_EQ(b.target.i, 4);
   EXPECT_EQ(b.target.kind, PerturbationTarget::Kind::kParticleShift);
   EXPECT_EQ(b.origin, a.origin);

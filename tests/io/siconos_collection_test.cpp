@@ -76,7 +76,8 @@ TEST(SiconosCollection, EveryFileIsReadAndSolvedHonestly) {
         EXPECT_LE(residual, o.tolerance) << r.report.message;
       } else {
         // A not-converged status: neither "unsupported" nor an answer to another model.
-        EXPECT_TRUE(r.report.status == SolveStatus::kIterationLimit || r.report.status == SolveStatus::kNumericalFailure)
+        EXPECT_TRUE(r.report.status == SolveStatus::kIterationLimit ||
+                    r.report.status == SolveStatus::kNumericalFailure)
             << ToString(r.report.status) << ": " << r.report.message;
       }
     }
@@ -128,7 +129,8 @@ TEST(SiconosCollection, ConvexBackendsSayWhereTheyStallOrRefuse) {
     ASSERT_TRUE(AllFinite(r.impulses));
     const double residual = ComputeResidual(p, r.impulses).residual;
     if (c.status == SolveStatus::kConverged) EXPECT_LE(residual, o.tolerance);
-    if (c.status == SolveStatus::kIterationLimit) EXPECT_GT(residual, 1e-3);  // a stall, not a near miss
+    if (c.status == SolveStatus::kIterationLimit)
+      EXPECT_GT(residual, 1e-3);  // a stall, not a near miss
   }
 }
 
@@ -155,12 +157,11 @@ TEST(SiconosCollection, OtherTrailingDataIsRefusedAtItsLine) {
     const char* token;
   };
   const std::vector<Case> cases = {
-      {"2\n", 11, "'2'"},            // not a flag value
-      {"1.0\n", 11, "'1.0'"},        // Siconos wrote it with %d
-      {"1 1\n", 11, "'1'"},          // one flag only: the second is refused
-      {"1\n0\n", 11, "'1'"},         // nor a second line
-      {"\n\nx\n", 13, "'x'"},
-      {"-1\n", 11, "'-1'"},
+      {"2\n", 11, "'2'"},      // not a flag value
+      {"1.0\n", 11, "'1.0'"},  // Siconos wrote it with %d
+      {"1 1\n", 11, "'1'"},    // one flag only: the second is refused
+      {"1\n0\n", 11, "'1'"},   // nor a second line
+      {"\n\nx\n", 13, "'x'"}, {"-1\n", 11, "'-1'"},
   };
   for (const Case& c : cases) {
     try {
@@ -168,8 +169,12 @@ TEST(SiconosCollection, OtherTrailingDataIsRefusedAtItsLine) {
       ADD_FAILURE() << c.tail << ": read";
     } catch (const InputError& e) {
       EXPECT_EQ(e.line(), c.line) << c.tail << ": " << e.what();
-      EXPECT_NE(e.message().find(std::string("unexpected data after the friction coefficients: ") + c.token), std::string::npos) << e.what();
-      EXPECT_EQ(std::string(e.what()).rfind("tail.dat:" + std::to_string(c.line) + ": ", 0), 0u) << e.what();
+      EXPECT_NE(e.message().find(std::string("unexpected data after the friction coefficients: ") +
+                                 c.token),
+                std::string::npos)
+          << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("tail.dat:" + std::to_string(c.line) + ": ", 0), 0u)
+          << e.what();
     }
   }
   // The flag on the line of the last mu is not how Siconos wrote it.
@@ -198,7 +203,10 @@ void ExpectGlobalRefused(const std::string& text, const std::string& sizes) {
     ADD_FAILURE() << "a global-form problem was read";
   } catch (const InputError& e) {
     EXPECT_EQ(e.line(), 3) << e.what();  // where M begins
-    EXPECT_EQ(std::string(e.what()).rfind("g.dat:3: global-form friction-contact problem (M, H, q, b)", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind(
+                  "g.dat:3: global-form friction-contact problem (M, H, q, b)", 0),
+              0u)
+        << e.what();
     EXPECT_NE(e.message().find(sizes), std::string::npos) << e.what();
     EXPECT_NE(e.message().find("use the local form"), std::string::npos) << e.what();
   }
@@ -207,9 +215,11 @@ void ExpectGlobalRefused(const std::string& text, const std::string& sizes) {
 TEST(SiconosCollection, GlobalFormIsRefusedByName) {
   ExpectGlobalRefused(kGlobal, "M is 3 x 3, H (line 12) is 3 x 2, 1 contacts");
   // With no contacts (gfc2d_granularflowonwall_00000_00117.dat has none) as well.
-  ExpectGlobalRefused("2\n0\n0\n1\n1\n1 1\n2\n0\n1\n0\n0\n", "M is 1 x 1, H (line 8) is 1 x 0, 0 contacts");
+  ExpectGlobalRefused("2\n0\n0\n1\n1\n1 1\n2\n0\n1\n0\n0\n",
+                      "M is 1 x 1, H (line 8) is 1 x 0, 0 contacts");
   // And where M happens to be 2nc x 2nc, so that the start reads as a local problem.
-  ExpectGlobalRefused("2\n1\n0\n2\n2\n2 2\n1 0\n0 1\n0\n2\n2\n2 2\n1 0\n0 1\n0 -1\n0 0\n0.5\n", "M is 2 x 2, H (line 9) is 2 x 2");
+  ExpectGlobalRefused("2\n1\n0\n2\n2\n2 2\n1 0\n0 1\n0\n2\n2\n2 2\n1 0\n0 1\n0 -1\n0 0\n0.5\n",
+                      "M is 2 x 2, H (line 9) is 2 x 2");
   // Local problems that fail for other reasons keep their own messages.
   try {
     ParseSiconosProblem("2\n0\n", "none.dat");

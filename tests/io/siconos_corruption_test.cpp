@@ -19,9 +19,10 @@ namespace {
 
 std::vector<std::string> Originals() {
   std::vector<std::string> texts;
-  for (const char* name : {"one-contact-stick.dat", "one-contact-slide.dat", "one-contact-open.dat",
-                           "coupled-block-slide.dat", "two-contacts-stick-dense.dat", "two-contacts-stick-block.dat",
-                           "two-contacts-stick-triplet.dat", "two-contacts-stick-csc.dat", "two-contacts-open.dat"}) {
+  for (const char* name :
+       {"one-contact-stick.dat", "one-contact-slide.dat", "one-contact-open.dat",
+        "coupled-block-slide.dat", "two-contacts-stick-dense.dat", "two-contacts-stick-block.dat",
+        "two-contacts-stick-triplet.dat", "two-contacts-stick-csc.dat", "two-contacts-open.dat"}) {
     std::ifstream in(std::string(UNJAM_SOURCE_DIR) + "/problems/siconos/" + name);
     std::ostringstream text;
     text << in.rdbuf();
@@ -41,7 +42,8 @@ TEST(SiconosCorruption, MutatedFilesParseOrRaiseInputErrorOnly) {
       const DelassusProblem p = ParseSiconosProblem(text, "mutant.dat");
       ++accepted;
       const std::string written = FormatSiconosProblem(p);
-      ASSERT_EQ(FormatSiconosProblem(ParseSiconosProblem(written, "rewritten.dat")), written) << text;
+      ASSERT_EQ(FormatSiconosProblem(ParseSiconosProblem(written, "rewritten.dat")), written)
+          << text;
     } catch (const InputError& e) {
       ++rejected;
       ASSERT_EQ(std::string(e.what()).rfind("mutant.dat", 0), 0u) << e.what();

@@ -18,7 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Problem(const std::string& name) { return std::string(UNJAM_SOURCE_DIR) + "/problems/siconos/" + name; }
+std::string Problem(const std::string& name) {
+  return std::string(UNJAM_SOURCE_DIR) + "/problems/siconos/" + name;
+}
 
 Eigen::MatrixXd DenseW(const DelassusProblem& p) { return Eigen::MatrixXd(p.w); }
 
@@ -43,9 +45,10 @@ TEST(SiconosRead, CoupledBlockInCscStorage) {
 TEST(SiconosRead, EveryStorageParsesToTheSameProblem) {
   const DelassusProblem dense = ReadSiconosProblem(Problem("two-contacts-stick-dense.dat"));
   Eigen::Matrix4d expected;
-  expected << 2, 0, -1, 0,  0, 3, 0, 0.5,  -1, 0, 2, 0,  0, 0.5, 0, 3;
+  expected << 2, 0, -1, 0, 0, 3, 0, 0.5, -1, 0, 2, 0, 0, 0.5, 0, 3;
   EXPECT_EQ(DenseW(dense), expected);
-  for (const char* name : {"two-contacts-stick-block.dat", "two-contacts-stick-triplet.dat", "two-contacts-stick-csc.dat"}) {
+  for (const char* name : {"two-contacts-stick-block.dat", "two-contacts-stick-triplet.dat",
+                           "two-contacts-stick-csc.dat"}) {
     const DelassusProblem p = ReadSiconosProblem(Problem(name));
     EXPECT_EQ(DenseW(p), expected) << name;
     EXPECT_EQ(p.q, dense.q) << name;
@@ -58,7 +61,8 @@ TEST(SiconosRead, RepeatedSparseEntriesAreSummedAsCSparseDoes) {
   const std::string text =
       "2\n1\n2\n2\n2\n1\nheader\ntriplet: 2-by-2, nzmax: 3 nnz: 3\n"
       "    0 0 : 1.5\n    1 1 : 4\n    0 0 : 0.5\n-1 0\n0.1\n";
-  EXPECT_EQ(DenseW(ParseSiconosProblem(text, "sum.dat")), (Eigen::Matrix2d() << 2, 0, 0, 4).finished());
+  EXPECT_EQ(DenseW(ParseSiconosProblem(text, "sum.dat")),
+            (Eigen::Matrix2d() << 2, 0, 0, 4).finished());
 }
 
 // A random problem with awkward doubles: round trips must give back the same bits.
@@ -80,14 +84,16 @@ DelassusProblem RandomProblem(int nc, unsigned seed) {
   p.w.resize(2 * nc, 2 * nc);
   p.w.setFromTriplets(t.begin(), t.end());
   p.q = Eigen::VectorXd::NullaryExpr(2 * nc, [&] { return u(rng) / 3.0; });
-  for (int k = 0; k < nc; ++k) p.laws.push_back({k == 0 ? 0.0 : std::abs(u(rng)), ConstraintKind::kUnilateral});
+  for (int k = 0; k < nc; ++k)
+    p.laws.push_back({k == 0 ? 0.0 : std::abs(u(rng)), ConstraintKind::kUnilateral});
   return p;
 }
 
 void ExpectSameBits(const DelassusProblem& a, const DelassusProblem& b) {
   ASSERT_EQ(a.NumContacts(), b.NumContacts());
   const Eigen::MatrixXd wa = DenseW(a), wb = DenseW(b);
-  for (Eigen::Index i = 0; i < wa.size(); ++i) ASSERT_EQ(wa.data()[i], wb.data()[i]) << "W entry " << i;
+  for (Eigen::Index i = 0; i < wa.size(); ++i)
+    ASSERT_EQ(wa.data()[i], wb.data()[i]) << "W entry " << i;
   for (Eigen::Index i = 0; i < a.q.size(); ++i) ASSERT_EQ(a.q[i], b.q[i]) << "q " << i;
   for (int k = 0; k < a.NumContacts(); ++k) ASSERT_EQ(a.laws[k].mu, b.laws[k].mu) << "mu " << k;
 }
@@ -123,7 +129,9 @@ TEST(SiconosWrite, SparseBlockLayoutHasEveryDiagonalBlockAndOnlyStoredOthers) {
     ParseSiconosProblem(text, "layout.dat");
     ADD_FAILURE() << "a W with zero diagonal entries was read";
   } catch (const InputError& e) {
-    EXPECT_NE(e.message().find("contact 0: W[1][1] (its tangential diagonal entry) is 0"), std::string::npos) << e.what();
+    EXPECT_NE(e.message().find("contact 0: W[1][1] (its tangential diagonal entry) is 0"),
+              std::string::npos)
+        << e.what();
   }
 }
 
@@ -141,13 +149,15 @@ TEST(SiconosWrite, HeldContactIsRefusedAndNoFileIsLeft) {
     EXPECT_NE(std::string(e.what()).find("contact 1"), std::string::npos) << e.what();
   }
   EXPECT_TRUE(fs::is_empty(dir));
-  EXPECT_THROW(WriteSiconosProblem(RandomProblem(2, 3), dir / "no" / "such" / "p.dat"), OutputError);
+  EXPECT_THROW(WriteSiconosProblem(RandomProblem(2, 3), dir / "no" / "such" / "p.dat"),
+               OutputError);
   EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);
 }
 
 TEST(SiconosWrite, ImpulsesOneContactPerLine) {
-  const fs::path path = fs::temp_directory_path() / ("unjam_impulses_" + std::to_string(::getpid()) + ".txt");
+  const fs::path path =
+      fs::temp_directory_path() / ("unjam_impulses_" + std::to_string(::getpid()) + ".txt");
   WriteImpulses(Eigen::Vector4d(0.5, -0.1, 0.0, 1e-300), path);
   std::ifstream in(path);
   std::stringstream text;
@@ -183,31 +193,56 @@ std::vector<BadCase> BadCases() {
       {"NaN in W", "2\n1\n0\n2\n2\n2 2\n2 0\nnan 4\n-1 0.4\n1\n", 8, "NaN"},
       {"infinite q", "2\n1\n0\n2\n2\n2 2\n2 0\n0 4\n-inf 0.4\n1\n", 9, "q[0]"},
       {"negative friction", "2\n1\n0\n2\n2\n2 2\n2 0\n0 4\n-1 0.4\n-0.5\n", 10, "must be >= 0"},
-      {"malformed number", "2\n1\n0\n2\n2\n2 2\n2 0abc\n0 4\n-1 0.4\n1\n", 7, "malformed number '0abc'"},
-      {"block of size 3", kBlockHead + "2\n2\n2\n3 4\n", 9, "bad block structure: block row end 0 is 3"},
-      {"block rows not per contact", kBlockHead + "2\n1\n1\n" + kTail, 7, "number of block rows is 1"},
-      {"block pointers falling", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 2 1\n", 13, "block row pointer 2"},
-      {"block columns not increasing", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 2 2\n1 0\n", 14, "must increase"},
-      {"block column out of range", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 2\n", 14, "block column index"},
-      {"block numbered wrongly", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 1\n1\n", 15, "block number 1, expected 0"},
+      {"malformed number", "2\n1\n0\n2\n2\n2 2\n2 0abc\n0 4\n-1 0.4\n1\n", 7,
+       "malformed number '0abc'"},
+      {"block of size 3", kBlockHead + "2\n2\n2\n3 4\n", 9,
+       "bad block structure: block row end 0 is 3"},
+      {"block rows not per contact", kBlockHead + "2\n1\n1\n" + kTail, 7,
+       "number of block rows is 1"},
+      {"block pointers falling", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 2 1\n", 13,
+       "block row pointer 2"},
+      {"block columns not increasing", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 2 2\n1 0\n", 14,
+       "must increase"},
+      {"block column out of range", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 2\n", 14,
+       "block column index"},
+      {"block numbered wrongly", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 1\n1\n", 15,
+       "block number 1, expected 0"},
       {"CSR origin", "2\n1\n2\n2\n2\n3\nh\n", 6, "CSR is not"},
       {"text after the origin", "2\n1\n2\n2\n2\n2 x\nh\n", 6, "after the sparse origin"},
-      {"CSC size mismatch", "2\n1\n2\n2\n2\n2\nh\n4-by-4, nzmax: 1 nnz: 1, 1-norm: 1\n", 8, "W is 4 x 4"},
-      {"triplet size line for CSC", "2\n1\n2\n2\n2\n2\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n", 8, "origin 2, CSC"},
-      {"CSC column skipped", "2\n1\n2\n2\n2\n2\nh\n2-by-2, nzmax: 1 nnz: 1, 1-norm: 1\n    col 1 : locations 0 to 0\n", 9, "expected column 0"},
-      {"CSC row out of range", "2\n1\n2\n2\n2\n2\nh\n2-by-2, nzmax: 1 nnz: 1, 1-norm: 1\n    col 0 : locations 0 to 0\n      2 : 1\n", 10, "row index"},
-      {"CSC fewer entries than said", "2\n1\n2\n2\n2\n2\nh\n2-by-2, nzmax: 2 nnz: 2, 1-norm: 1\n    col 0 : locations 0 to 0\n      0 : 1\n    col 1 : locations 1 to 0\n1 1\n1\n", 11, "1 entries listed, the size line says 2"},
-      {"triplet entry without a value", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n    0 0 :\n", 9, "I J : VALUE"},
-      {"triplet NaN value", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n    0 0 : nan\n", 9, "NaN"},
-      {"truncated sparse section", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n", 8, "truncated"},
+      {"CSC size mismatch", "2\n1\n2\n2\n2\n2\nh\n4-by-4, nzmax: 1 nnz: 1, 1-norm: 1\n", 8,
+       "W is 4 x 4"},
+      {"triplet size line for CSC", "2\n1\n2\n2\n2\n2\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n", 8,
+       "origin 2, CSC"},
+      {"CSC column skipped",
+       "2\n1\n2\n2\n2\n2\nh\n2-by-2, nzmax: 1 nnz: 1, 1-norm: 1\n    col 1 : locations 0 to 0\n", 9,
+       "expected column 0"},
+      {"CSC row out of range",
+       "2\n1\n2\n2\n2\n2\nh\n2-by-2, nzmax: 1 nnz: 1, 1-norm: 1\n    col 0 : locations 0 to 0\n    "
+       "  2 : 1\n",
+       10, "row index"},
+      {"CSC fewer entries than said",
+       "2\n1\n2\n2\n2\n2\nh\n2-by-2, nzmax: 2 nnz: 2, 1-norm: 1\n    col 0 : locations 0 to 0\n    "
+       "  0 : 1\n    col 1 : locations 1 to 0\n1 1\n1\n",
+       11, "1 entries listed, the size line says 2"},
+      {"triplet entry without a value",
+       "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n    0 0 :\n", 9, "I J : VALUE"},
+      {"triplet NaN value",
+       "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n    0 0 : nan\n", 9, "NaN"},
+      {"truncated sparse section", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 1 nnz: 1\n", 8,
+       "truncated"},
       // Not a Delassus operator (H M^-1 H^T has a positive diagonal): named at W's first line.
       {"negative diagonal of W", "2\n1\n0\n2\n2\n2 2\n-2 0\n0 -4\n-1 0.4\n1\n", 3,
-       "contact 0: W[0][0] (its normal diagonal entry) is -2, not positive: W is not a Delassus operator"},
-      {"W of no blocks (zero)", "2\n1\n1\n2\n2\n0\n-1 0.4\n1\n", 3, "contact 0: W[0][0] (its normal diagonal entry) is 0"},
-      {"zero tangential diagonal of contact 1", kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 1\n0\n2 0 0 3\n1\n2 0 0 0\n" + kTail, 3,
+       "contact 0: W[0][0] (its normal diagonal entry) is -2, not positive: W is not a Delassus "
+       "operator"},
+      {"W of no blocks (zero)", "2\n1\n1\n2\n2\n0\n-1 0.4\n1\n", 3,
+       "contact 0: W[0][0] (its normal diagonal entry) is 0"},
+      {"zero tangential diagonal of contact 1",
+       kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 1\n0\n2 0 0 3\n1\n2 0 0 0\n" + kTail, 3,
        "contact 1: W[3][3] (its tangential diagonal entry) is 0"},
-      {"diagonal summed to zero (triplet)", "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 3 nnz: 3\n    0 0 : 1\n    1 1 : 1\n    0 0 : -1\n-1 0\n1\n", 3,
-       "contact 0: W[0][0]"},
+      {"diagonal summed to zero (triplet)",
+       "2\n1\n2\n2\n2\n1\nh\ntriplet: 2-by-2, nzmax: 3 nnz: 3\n    0 0 : 1\n    1 1 : 1\n    0 0 : "
+       "-1\n-1 0\n1\n",
+       3, "contact 0: W[0][0]"},
   };
 }
 
@@ -225,7 +260,9 @@ TEST(SiconosRead, MalformedInputNamesFileLineAndProblem) {
     }
   }
   EXPECT_NO_THROW(ParseSiconosProblem(kGood, "good.dat"));
-  EXPECT_NO_THROW(ParseSiconosProblem(kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 1\n0\n2 0 0 3\n1\n2 0 0 3\n" + kTail, "good.dat"));
+  EXPECT_NO_THROW(ParseSiconosProblem(
+      kBlockHead + "2\n2\n2\n2 4\n2 4\n3\n2\n0 1 2\n0 1\n0\n2 0 0 3\n1\n2 0 0 3\n" + kTail,
+      "good.dat"));
 }
 
 TEST(SiconosRead, MissingFileIsAnInputError) {

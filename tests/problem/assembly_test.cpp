@@ -34,8 +34,8 @@ TEST(Assembly, FrictionlessSceneHasOneUnknownPerContactAndNoRotation) {
   EXPECT_FALSE(a.problem.frictional);
   EXPECT_EQ(a.problem.NumContacts(), 1);
   EXPECT_EQ(a.problem.NumUnknowns(), 1);
-  EXPECT_EQ(a.problem.NumBodies(), 2);    // the fixed disk has no degrees of freedom
-  EXPECT_EQ(a.problem.NumDofs(), 4);      // translations only
+  EXPECT_EQ(a.problem.NumBodies(), 2);  // the fixed disk has no degrees of freedom
+  EXPECT_EQ(a.problem.NumDofs(), 4);    // translations only
   EXPECT_TRUE(a.problem.inv_inertia.empty());
   EXPECT_FALSE(a.problem.cell.has_value());
   EXPECT_EQ(AssembleJacobian(a.problem).rows(), 1);
@@ -128,7 +128,8 @@ ContactProblem RandomProblem(std::uint64_t seed) {
   s.effects.gravity = Vec2(0.1, -1.0);
   s.effects.pressure_bath = PressureBath{1.0, 10.0, 0.01};
   for (int i = 0; i < 36; ++i) {
-    Particle p = Disk(0.5 + i % 6 + 0.05 * u(rng), 0.5 + i / 6 + 0.05 * u(rng), 0.5 + 0.02 * u(rng), i == 3);
+    Particle p =
+        Disk(0.5 + i % 6 + 0.05 * u(rng), 0.5 + i / 6 + 0.05 * u(rng), 0.5 + 0.02 * u(rng), i == 3);
     p.velocity = Vec2(u(rng), u(rng));
     p.spin = u(rng);
     s.particles.push_back(p);

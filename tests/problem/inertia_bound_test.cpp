@@ -66,7 +66,9 @@ TEST(InertiaBound, AFrictionalDiskOnAnInclineRollsWhateverTheFriction) {
     EXPECT_NEAR(SmallestInertia(rough, Scales(rough)).ratio, 0.5 * std::sin(theta), 1e-9) << dt;
     const double mu = 0.1;  // μ cos θ = 0.096 < sin θ / 2 = 0.148
     const ContactProblem smooth = DiskOnIncline(theta, mu, dt);
-    EXPECT_NEAR(SmallestInertia(smooth, Scales(smooth)).ratio, (std::sin(theta) - mu * std::cos(theta)) / (1.0 + mu), 1e-9) << dt;
+    EXPECT_NEAR(SmallestInertia(smooth, Scales(smooth)).ratio,
+                (std::sin(theta) - mu * std::cos(theta)) / (1.0 + mu), 1e-9)
+        << dt;
   }
 }
 
@@ -95,7 +97,8 @@ TEST(InertiaBound, TheContinuedLpOfAHeldContactIsTheHeldStepsLp) {
   p.contacts.push_back(p.contacts[0]);
   const HeldContactInertia continued(p, Scales(p));
   ASSERT_TRUE(continued.ready());
-  EXPECT_NEAR(SmallestInertia(p, Scales(p)).ratio, (std::sin(theta) - mu * std::cos(theta)) / (1.0 + mu), 1e-9);
+  EXPECT_NEAR(SmallestInertia(p, Scales(p)).ratio,
+              (std::sin(theta) - mu * std::cos(theta)) / (1.0 + mu), 1e-9);
   for (int k : {0, 1}) {
     ContactProblem held = p;
     held.contacts[k].kind = ConstraintKind::kBilateral;

@@ -15,8 +15,11 @@ namespace {
 Eigen::SparseMatrix<double> Dense(const Eigen::MatrixXd& m) { return m.sparseView(); }
 
 void ExpectOrthonormalSelfStresses(const Eigen::MatrixXd& s, const Eigen::SparseMatrix<double>& h) {
-  EXPECT_LT((s.transpose() * s - Eigen::MatrixXd::Identity(s.cols(), s.cols())).lpNorm<Eigen::Infinity>(), 1e-12);
-  if (s.cols() > 0) EXPECT_LT((Eigen::MatrixXd(h.transpose()) * s).lpNorm<Eigen::Infinity>(), 1e-12);
+  EXPECT_LT(
+      (s.transpose() * s - Eigen::MatrixXd::Identity(s.cols(), s.cols())).lpNorm<Eigen::Infinity>(),
+      1e-12);
+  if (s.cols() > 0)
+    EXPECT_LT((Eigen::MatrixXd(h.transpose()) * s).lpNorm<Eigen::Infinity>(), 1e-12);
 }
 
 // One body on three supports along one line (three contact rows, one degree of freedom):
@@ -50,7 +53,8 @@ TEST(SelfStress, ReleasingABalanceAddsTheImpulsesThatLoadIt) {
 // On the bundled packings the dimension is the degree of force indeterminacy that the
 // bounds report (two independent rank estimates of the same balance matrix).
 TEST(SelfStress, DimensionIsTheDegreeOfIndeterminacyOfTheBundledPackings) {
-  for (const std::string name : {"pressure-n500-mu0.5", "pressure-n500-mu0", "gravity-n100-mu0.5"}) {
+  for (const std::string name :
+       {"pressure-n500-mu0.5", "pressure-n500-mu0", "gravity-n100-mu0.5"}) {
     const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/" + name + ".unjam");
     const EquilibriumSystem system = BuildEquilibriumSystem(scene);
     const Eigen::SparseMatrix<double> h = system.matrix.transpose();

@@ -82,7 +82,8 @@ TEST_P(BundledPacking, FrictionlessForcesAreUniqueFromAColdStart) {
 INSTANTIATE_TEST_SUITE_P(Problems, BundledPacking, ::testing::ValuesIn(BundledPackings()),
                          [](const auto& info) {
                            std::string name = std::filesystem::path(info.param).stem().string();
-                           for (char& c : name) if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;
                          });
 

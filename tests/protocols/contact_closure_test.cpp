@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "test_scenes.hpp"
-#include "unjam/protocols/contact_closure.hpp"
 #include "unjam/contacts/contact.hpp"
+#include "unjam/protocols/contact_closure.hpp"
 
 namespace unjam {
 namespace {
@@ -59,7 +59,8 @@ TEST(ContactClosure, ACellUnderPressureShrinksWithItsParticles) {
   const ClosureReport r = CloseContacts(s, keys);
   ASSERT_TRUE(r.closed) << r.max_gap;
   EXPECT_NEAR(s.cell.size.x(), static_cast<double>(n), 1e-12);
-  for (const ContactKey& k : keys) EXPECT_LE(std::abs(MakeContact(s, k.i, k.j, k.image).gap), 1e-13);
+  for (const ContactKey& k : keys)
+    EXPECT_LE(std::abs(MakeContact(s, k.i, k.j, k.image).gap), 1e-13);
 }
 
 }  // namespace

@@ -55,24 +55,24 @@ TEST(GravityPile, LoosePileStartsAboveTheBedAtRest) {
 
 // Static, nothing overlaps, no rattlers, the bed carries the whole weight, all at rest.
 void ExpectStaticOnTheBed(const Settled& p, double mu) {
-    ASSERT_TRUE(p.report.jammed) << "mu " << mu << ", steps " << p.report.steps;
-    const StaticSolution& s = p.report.final_check;
-    EXPECT_LT(s.equilibrium.residual, 1e-12);
-    EXPECT_LT(MaxOverlap(p.scene), 1e-12) << "carrying contacts are closed exactly, nothing overlaps";
-    // Under gravity every free particle rests on something: no rattlers.
-    EXPECT_EQ(ComputeCoordination(p.scene, s.contacts, s.forces).rattlers, 0);
-    // Newton's third law: the fixed bed carries the whole weight of the pile.
-    double weight = 0.0;
-    for (const Particle& q : p.scene.particles) weight += q.fixed ? 0.0 : q.Mass();
-    double on_bed = 0.0;
-    for (std::size_t k = 0; k < s.contacts.size(); ++k) {
-      const Contact& c = s.contacts[k];
-      const Vec2 f = s.forces[k][0] * c.normal + s.forces[k][1] * Perp(c.normal);  // on j
-      if (p.scene.particles[c.i].fixed) on_bed -= f.y();  // the bed is i, the force on it is −f
-      if (!c.WithWall() && p.scene.particles[c.j].fixed) on_bed += f.y();
-    }
-    EXPECT_NEAR(-on_bed, weight, 1e-10 * weight) << "mu " << mu;
-    for (const Particle& q : p.scene.particles) EXPECT_EQ(q.velocity, Vec2::Zero());
+  ASSERT_TRUE(p.report.jammed) << "mu " << mu << ", steps " << p.report.steps;
+  const StaticSolution& s = p.report.final_check;
+  EXPECT_LT(s.equilibrium.residual, 1e-12);
+  EXPECT_LT(MaxOverlap(p.scene), 1e-12) << "carrying contacts are closed exactly, nothing overlaps";
+  // Under gravity every free particle rests on something: no rattlers.
+  EXPECT_EQ(ComputeCoordination(p.scene, s.contacts, s.forces).rattlers, 0);
+  // Newton's third law: the fixed bed carries the whole weight of the pile.
+  double weight = 0.0;
+  for (const Particle& q : p.scene.particles) weight += q.fixed ? 0.0 : q.Mass();
+  double on_bed = 0.0;
+  for (std::size_t k = 0; k < s.contacts.size(); ++k) {
+    const Contact& c = s.contacts[k];
+    const Vec2 f = s.forces[k][0] * c.normal + s.forces[k][1] * Perp(c.normal);  // on j
+    if (p.scene.particles[c.i].fixed) on_bed -= f.y();  // the bed is i, the force on it is −f
+    if (!c.WithWall() && p.scene.particles[c.j].fixed) on_bed += f.y();
+  }
+  EXPECT_NEAR(-on_bed, weight, 1e-10 * weight) << "mu " << mu;
+  for (const Particle& q : p.scene.particles) EXPECT_EQ(q.velocity, Vec2::Zero());
 }
 
 TEST(GravityPile, SettlesStaticWithTheWeightOnTheBed) {
@@ -84,7 +84,8 @@ TEST(GravityPile, SettlesStaticAtTheProtocolTimeStepAndAtTwiceIt) {
   for (double dt : {kPackingTimeStep, 2.0 * kPackingTimeStep}) {
     const Settled p = SettlePile(0.5, 4, dt);
     ExpectStaticOnTheBed(p, 0.5);
-    EXPECT_LT(p.report.steps, fine.report.steps) << "dt " << dt << ": a larger step settles in fewer steps";
+    EXPECT_LT(p.report.steps, fine.report.steps)
+        << "dt " << dt << ": a larger step settles in fewer steps";
   }
 }
 

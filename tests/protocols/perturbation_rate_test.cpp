@@ -7,12 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include "protocols/perturbation_rate.hpp"
 #include "unjam/indeterminacy/equilibrium_system.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
 #include "unjam/indeterminacy/shift_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
-#include "protocols/perturbation_rate.hpp"
 
 namespace unjam {
 namespace {
@@ -32,13 +32,15 @@ int ContactIndex(const EquilibriumSystem& system, const PerturbationTarget& t) {
 // F_crit of an opening lies in its contact's interval over the admissible static networks
 // [min, max without friction] (indeterminacy/force_bounds.hpp): a quasi-static response
 // ends on a static network with the contact's force released.
-void ExpectInsideTheContactsLpInterval(const EquilibriumSystem& system, const PerturbationResult& r) {
+void ExpectInsideTheContactsLpInterval(const EquilibriumSystem& system,
+                                       const PerturbationResult& r) {
   const int k = ContactIndex(system, r.target);
   ASSERT_GE(k, 0);
   const BoundsReport b = ComputeForceBounds(system, {k}, {});
   ASSERT_TRUE(b.bounds[0].min.ok() && b.bounds[0].max_without_friction.ok());
   EXPECT_GE(r.f_crit, b.bounds[0].min.value - 1e-6) << r.target.i << "-" << r.target.j;
-  EXPECT_LE(r.f_crit, b.bounds[0].max_without_friction.value + 1e-6) << r.target.i << "-" << r.target.j;
+  EXPECT_LE(r.f_crit, b.bounds[0].max_without_friction.value + 1e-6)
+      << r.target.i << "-" << r.target.j;
 }
 
 // On the default packing (μ = 0.5) every sampled opening ends with a definite status. Where
@@ -95,7 +97,8 @@ TEST(RatePerturbation, StaticLpCuttingPlanesAgreeWithTheWholeLp) {
     const RateStaticLp fast = SolveRateStaticLp(rt.problem);
     const RateStaticLp whole = SolveRateStaticLp(rt.problem, {.every_row = true});
     ASSERT_TRUE(fast.decided && whole.decided) << fast.message << " / " << whole.message;
-    EXPECT_EQ(fast.feasible, whole.feasible) << t.i << "-" << t.j << ": " << fast.message << " / " << whole.message;
+    EXPECT_EQ(fast.feasible, whole.feasible)
+        << t.i << "-" << t.j << ": " << fast.message << " / " << whole.message;
     infeasible += fast.feasible ? 0 : 1;
     ++openings;
   }

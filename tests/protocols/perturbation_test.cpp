@@ -106,7 +106,8 @@ TEST(Perturbation, ContactFrameAndPenetrationDepthOfTheVGroove) {
   const Vec2 contact_point = scene.particles[0].position + r.axis;  // R = 1 along n
   EXPECT_LT((r.origin - contact_point).norm(), 1e-12);
   // One moving disk: δ is the distance of its centre from the contact along the normal.
-  EXPECT_NEAR(r.penetration_depth, std::abs((scene.particles[2].position - r.origin).dot(r.axis)), 1e-12);
+  EXPECT_NEAR(r.penetration_depth, std::abs((scene.particles[2].position - r.origin).dot(r.axis)),
+              1e-12);
 }
 
 // Fixed disk 0, disk 1 on it, a smaller disk 2 on top; frictionless, exactly vertical.
@@ -133,7 +134,7 @@ TEST(Perturbation, LiftingADiskOfAColumnLiftsTheDiskAbove) {
   // It carries the disk above, and accelerates it by ξ/Δt within the step (the inertial
   // part, ξ/Δt² relative to g: 1e-9 here).
   EXPECT_NEAR(r.f_crit, m2 * (1.0 + o.gap / (o.dt * o.dt)), 1e-12 * m2);
-  EXPECT_NEAR(r.f_reference, m1 + m2, 1e-12);        // F_y: the support from below
+  EXPECT_NEAR(r.f_reference, m1 + m2, 1e-12);  // F_y: the support from below
   EXPECT_LT((r.displacement[2] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap);
 }
 
@@ -142,7 +143,8 @@ TEST(Perturbation, LiftingADiskOfAColumnLiftsTheDiskAbove) {
 // kept and checked at 10ξ: F_crit = F_cont plus the inertial part, as newton alone gives.
 // The first backend's account stays in the message.
 TEST(Perturbation, TheFallbackSolvesWhatTheFirstBackendLeaves) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
   PerturbationOptions o;
   o.backend = "nsgs";
   o.solver.max_iterations = 10;
@@ -150,7 +152,8 @@ TEST(Perturbation, TheFallbackSolvesWhatTheFirstBackendLeaves) {
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationTarget opening = SampleTargets(ContactTargets(base), 1, 3).at(0);
   const PerturbationResult alone = Perturb(base, opening, o);
-  ASSERT_FALSE(alone.resolved) << "10 NSGS sweeps resolved the step: the test needs a failing first backend";
+  ASSERT_FALSE(alone.resolved)
+      << "10 NSGS sweeps resolved the step: the test needs a failing first backend";
   o.fallback = "newton";
   const PerturbationResult r = Perturb(base, opening, o);
   ASSERT_EQ(r.status, "ok") << r.solve.message;
@@ -195,11 +198,14 @@ TEST(Perturbation, AutoSolvesByRateAndGivesUndecidedLargeFrictionalStepsToNewton
   EXPECT_EQ(PerturbationFallback(o, small), "ipopt");
   EXPECT_EQ(StepBackend(o, large), "newton");
   EXPECT_EQ(PerturbationFallback(o, large), "") << "lemke would take minutes to fail after newton";
-  EXPECT_TRUE(AutoLeavesLemkeForSize(o, large)) << "the case in which perturb names lemke as the remedy";
+  EXPECT_TRUE(AutoLeavesLemkeForSize(o, large))
+      << "the case in which perturb names lemke as the remedy";
   EXPECT_FALSE(AutoLeavesLemkeForSize(o, small));
-  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large_frictionless)) << "newton is auto's own choice without friction";
+  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large_frictionless))
+      << "newton is auto's own choice without friction";
   EXPECT_EQ(StepBackend(o, large_frictionless), "newton");
-  EXPECT_EQ(PerturbationFallback(o, large_frictionless), "lemke") << "a frictionless step keeps lemke after newton";
+  EXPECT_EQ(PerturbationFallback(o, large_frictionless), "lemke")
+      << "a frictionless step keeps lemke after newton";
   o.solver.lemke_box_rate_first = true;  // an option only lemke reads names the backend
   EXPECT_EQ(PerturbationBackend(o, large), "lemke");
   EXPECT_EQ(StepBackend(o, large), "lemke");
@@ -213,7 +219,8 @@ TEST(Perturbation, AutoSolvesByRateAndGivesUndecidedLargeFrictionalStepsToNewton
   EXPECT_EQ(PerturbationBackend(o, small), "rate");
   EXPECT_EQ(StepBackend(o, small), "newton");
   EXPECT_EQ(PerturbationFallback(o, small), "");
-  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large)) << "at fixed volume lemke ends on the unloaded solution";
+  EXPECT_FALSE(AutoLeavesLemkeForSize(o, large))
+      << "at fixed volume lemke ends on the unloaded solution";
   o.cell = CellCondition::kFixedPressure;
   o.backend = "newton";  // a backend the user names is not second-guessed
   EXPECT_EQ(PerturbationBackend(o, small), "newton");
@@ -280,7 +287,8 @@ TEST(Perturbation, AColumnInAChannelOneDiameterWide) {
   for (const int k : {1, 3, 5}) {
     Scene scene;
     scene.cell.size = Vec2(10.0, k + 1.0);
-    scene.cell.walls = {testing::Floor(), Wall{Vec2(4.5, 0.0), Vec2(1.0, 0.0)}, Wall{Vec2(5.5, 0.0), Vec2(-1.0, 0.0)}};
+    scene.cell.walls = {testing::Floor(), Wall{Vec2(4.5, 0.0), Vec2(1.0, 0.0)},
+                        Wall{Vec2(5.5, 0.0), Vec2(-1.0, 0.0)}};
     scene.effects.gravity = Vec2(0.0, -1.0);
     for (int i = 0; i < k; ++i) scene.particles.push_back(Disk(5.0, 0.5 + i, 0.5));
     scene = WithStaticForces(scene);
@@ -290,8 +298,10 @@ TEST(Perturbation, AColumnInAChannelOneDiameterWide) {
     const PerturbationResult lift = Perturb(base, ParticleShift(base, 0, Vec2(0.0, 1.0)), o);
     ASSERT_EQ(lift.status, "ok") << "k = " << k << ": " << lift.solve.message;
     EXPECT_NEAR(lift.f_crit, (k - 1) * m * (1.0 + o.gap / (o.dt * o.dt)), 1e-12 * k) << "k = " << k;
-    EXPECT_NEAR(lift.f_reference, k * m, 1e-10 * k) << "k = " << k;  // F_y: the floor carries the column
-    for (int i = 1; i < k; ++i) EXPECT_LT((lift.displacement[i] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap) << i;
+    EXPECT_NEAR(lift.f_reference, k * m, 1e-10 * k)
+        << "k = " << k;  // F_y: the floor carries the column
+    for (int i = 1; i < k; ++i)
+      EXPECT_LT((lift.displacement[i] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap) << i;
     // All k disks move by ξ, the lifted one (at the origin) included: δ = Σ i / k = (k − 1)/2.
     EXPECT_EQ(lift.displacement[0], Vec2(0.0, o.gap));
     EXPECT_NEAR(lift.penetration_depth, (k - 1) / 2.0, 1e-3) << "k = " << k;
@@ -315,7 +325,8 @@ TEST(Perturbation, ShiftingADiskOnFixedSupports) {
   const PerturbationResult down = Perturb(base, ParticleShift(base, 2, Vec2(0.0, -1.0)), o);
   EXPECT_EQ(down.status, "blocked");
   EXPECT_TRUE(std::isnan(down.f_crit));
-  EXPECT_NE(down.solve.message.find("neither of which can give way"), std::string::npos) << down.solve.message;
+  EXPECT_NE(down.solve.message.find("neither of which can give way"), std::string::npos)
+      << down.solve.message;
   EXPECT_THROW(ParticleShift(base, 0, Vec2(0.0, 1.0)), std::invalid_argument);  // fixed
   EXPECT_THROW(ParticleShift(base, 3, Vec2(0.0, 1.0)), std::invalid_argument);  // no such particle
 }
@@ -326,7 +337,8 @@ TEST(Perturbation, ResultsDoNotDependOnTheThreadCount) {
   const PerturbationBase base = PreparePerturbations(scene, o);
   const std::vector<PerturbationTarget> targets = {Opening(0, 2), Opening(1, 2), Opening(0, 2)};
   std::vector<double> one, two;
-  PerturbAll(base, targets, o, 1, [&](int, const PerturbationResult& r) { one.push_back(r.f_crit); });
+  PerturbAll(base, targets, o, 1,
+             [&](int, const PerturbationResult& r) { one.push_back(r.f_crit); });
   PerturbAll(base, targets, o, 2, [&](int k, const PerturbationResult& r) {
     EXPECT_EQ(k, static_cast<int>(two.size()));  // in target order
     two.push_back(r.f_crit);
@@ -341,9 +353,11 @@ TEST(Perturbation, AsFinishedReportsEveryTargetOnceWithTheOrderedResults) {
   const Scene scene = VGroove(1.3);
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  const std::vector<PerturbationTarget> targets = {Opening(0, 2), Opening(1, 2), Opening(0, 2), Opening(1, 2), Opening(0, 2)};
+  const std::vector<PerturbationTarget> targets = {Opening(0, 2), Opening(1, 2), Opening(0, 2),
+                                                   Opening(1, 2), Opening(0, 2)};
   std::vector<double> ordered;
-  PerturbAll(base, targets, o, 1, [&](int, const PerturbationResult& r) { ordered.push_back(r.f_crit); });
+  PerturbAll(base, targets, o, 1,
+             [&](int, const PerturbationResult& r) { ordered.push_back(r.f_crit); });
   PerturbSchedule schedule;
   schedule.threads = 2;
   schedule.as_finished = true;
@@ -352,7 +366,8 @@ TEST(Perturbation, AsFinishedReportsEveryTargetOnceWithTheOrderedResults) {
     EXPECT_TRUE(finished.emplace(k, r.f_crit).second) << "target " << k << " reported twice";
   });
   ASSERT_EQ(finished.size(), targets.size());
-  for (int k = 0; k < static_cast<int>(targets.size()); ++k) EXPECT_EQ(finished[k], ordered[k]) << k;
+  for (int k = 0; k < static_cast<int>(targets.size()); ++k)
+    EXPECT_EQ(finished[k], ordered[k]) << k;
 }
 
 // A caller that cannot take a result (its records file fails) gets its error back from
@@ -391,7 +406,8 @@ TEST(Perturbation, NoTargetStartsOnceTheBudgetIsSpent) {
       schedule.as_finished = as_finished;
       schedule.start_before = std::chrono::steady_clock::now();
       int reported = 0;
-      PerturbAll(base, {Opening(0, 2), Opening(1, 2)}, o, schedule, [&](int, const PerturbationResult&) { ++reported; });
+      PerturbAll(base, {Opening(0, 2), Opening(1, 2)}, o, schedule,
+                 [&](int, const PerturbationResult&) { ++reported; });
       EXPECT_EQ(reported, 0) << threads << " threads, as finished " << as_finished;
     }
   }
@@ -427,7 +443,8 @@ TEST(Perturbation, BadTargetsAndOptionsAreRefused) {
 TEST(Perturbation, SampleIsDeterministicAndOrdered) {
   std::vector<PerturbationTarget> all(50);
   for (int k = 0; k < 50; ++k) all[k].i = k;
-  const auto a = SampleTargets(all, 10, 7), b = SampleTargets(all, 10, 7), c = SampleTargets(all, 10, 8);
+  const auto a = SampleTargets(all, 10, 7), b = SampleTargets(all, 10, 7),
+             c = SampleTargets(all, 10, 8);
   ASSERT_EQ(a.size(), 10u);
   for (int k = 0; k < 10; ++k) EXPECT_EQ(a[k].i, b[k].i);
   for (int k = 1; k < 10; ++k) EXPECT_LT(a[k - 1].i, a[k].i);
@@ -439,7 +456,8 @@ TEST(Perturbation, SampleIsDeterministicAndOrdered) {
 // Frictionless jammed packings are isostatic: the forces are unique, so holding a contact
 // open takes exactly its static force, at fixed pressure as at fixed volume.
 TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const std::vector<PerturbationTarget> targets = SampleTargets(ContactTargets(base), 2, 3);
@@ -486,7 +504,8 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
 // 49–208 quasi-static. The LP's bound is a lower bound of every answer's inertia ratio, so
 // it may decide the first without a solve, and must leave the second to the solver.
 TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   o.backend = "lemke";
   o.check_linearity = false;
@@ -533,7 +552,8 @@ TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
 }
 
 TEST(Perturbation, FrictionalQuasiStaticOpeningIsLinearInTheGap) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   o.check_linearity = false;  // the test is that check, made here by hand
   const PerturbationBase base = PreparePerturbations(scene, o);
@@ -563,7 +583,8 @@ TEST(Perturbation, FrictionalQuasiStaticOpeningIsLinearInTheGap) {
 // path from it ends on another motion, at 14 times the misfit allowed, and F_crit changes
 // by 0.024. It is reported as "nonlinear".
 TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationTarget target = OpeningOf(base, 139, 286);
@@ -586,7 +607,8 @@ TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
 // (misfit 0.43, F_crit 1.678 against 1.477), which the cold check calls nonlinear: the
 // answer is one member, and which member a path from zero picks depends on ξ.
 TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   o.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, o);
@@ -597,7 +619,9 @@ TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
   ASSERT_EQ(r.status, "ok") << r.solve.message;
   EXPECT_LT(r.linearity_misfit, 1e-5);
   EXPECT_NEAR(r.fcrit_10xi, r.f_crit, 1e-4 * r.f_crit);
-  EXPECT_NE(r.solve.message.find("10 xi check: Lemke: the given basis: residual"), std::string::npos) << r.solve.message;
+  EXPECT_NE(r.solve.message.find("10 xi check: Lemke: the given basis: residual"),
+            std::string::npos)
+      << r.solve.message;
   PerturbationOptions cold = o;
   cold.check_by_continuation = false;
   const PerturbationResult c = Perturb(base, target, cold);
@@ -611,7 +635,8 @@ TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
 // left 6 of the 10 top shifts unresolved; every shift must be resolved (quasi-static or
 // dynamic), and pushing a grain down into the pile or up off its support takes a force.
 TEST(Perturbation, LemkeResolvesEveryShiftOfTheSmallPile) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   PerturbationOptions o;
   o.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, o);
@@ -634,7 +659,8 @@ TEST(Perturbation, LemkeResolvesEveryShiftOfTheSmallPile) {
 // displacements are those of the path's answer: by virtual work, a self-stress that keeps
 // the pattern changes F_crit only through the normal forces of sliding contacts.
 TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   PerturbationOptions path;
   path.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, path);
@@ -650,17 +676,21 @@ TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
   EXPECT_NEAR(b.f_crit, a.f_crit, 1e-9 * a.f_crit);
   EXPECT_NEAR(b.fcrit_10xi, b.f_crit, 1e-6 * b.f_crit);
   double moved = 0.0, change_a = 0.0, change_b = 0.0, largest_difference = 0.0;
-  for (std::size_t i = 0; i < a.displacement.size(); ++i) moved = std::max(moved, (b.displacement[i] - a.displacement[i]).norm());
+  for (std::size_t i = 0; i < a.displacement.size(); ++i)
+    moved = std::max(moved, (b.displacement[i] - a.displacement[i]).norm());
   EXPECT_LT(moved, 1e-2 * path.gap);
   ASSERT_EQ(a.force_changes.size(), b.force_changes.size());
   for (std::size_t k = 0; k < a.force_changes.size(); ++k) {
     const ContactForceChange &x = a.force_changes[k], &y = b.force_changes[k];
-    change_a += std::abs(x.normal_after - x.normal_before) + std::abs(x.tangential_after - x.tangential_before);
-    change_b += std::abs(y.normal_after - y.normal_before) + std::abs(y.tangential_after - y.tangential_before);
+    change_a += std::abs(x.normal_after - x.normal_before) +
+                std::abs(x.tangential_after - x.tangential_before);
+    change_b += std::abs(y.normal_after - y.normal_before) +
+                std::abs(y.tangential_after - y.tangential_before);
     largest_difference = std::max(largest_difference, std::abs(y.normal_after - x.normal_after));
   }
-  EXPECT_GT(largest_difference, 1e6 * path.gap);  // another member, not the O(ξ) response (pattern_lp_test)
-  EXPECT_LT(change_b, change_a);       // nearer the static forces
+  EXPECT_GT(largest_difference,
+            1e6 * path.gap);      // another member, not the O(ξ) response (pattern_lp_test)
+  EXPECT_LT(change_b, change_a);  // nearer the static forces
 }
 
 // On the hyperstatic μ = 0.1 packing (829 contacts, 285 self-stresses) the path from zero
@@ -671,7 +701,8 @@ TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
 // Opens the `index`-th force-carrying contact of the bundled μ = 0.1 packing (default
 // options), which must be the contact (i, j).
 void OpenContactOfTheMu01Packing(std::size_t index, int i, int j, PerturbationResult& r) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.1.unjam");
   PerturbationOptions o;
   o.backend = "lemke";
   o.check_linearity = false;  // these tests are about resolving one step; the check doubles it
@@ -694,13 +725,13 @@ TEST(Perturbation, LemkeResolvesAnOpeningWhosePathFromZeroCycles) {
   EXPECT_LE(r.f_crit, 3.007 * (1.0 + 1e-3));
 }
 
-// On the same packing the opening of contact 40–317 (F_cont = 0.022) defeats the
-// slip-speed form: its paths from zero cycle (in the step's units and in the rate form)
-// and Newton's polish of the perturbed run stalls (2.4e-11 against 5.3e-12). The
-// shifted-box form (lemke.cpp), whose sticking contacts are not degenerate, solves it on
-// its first path from zero, exactly (since 2026-11-26 in the rate form, which runs
-// first). The answer must be a solution to round-off and lie in the contact's admissible
-// interval [0, 0.9519] without friction (`unjam bounds --contacts K`).
+// On the same packing the opening of contact 40–317 (F_cont = 0.022) defeats the slip-speed
+// form: its paths from zero cycle (in the step's units and in the rate form) and Newton's
+// polish of the perturbed run stalls (2.4e-11 against 5.3e-12). The shifted-box form
+// (lemke.cpp), whose sticking contacts are not degenerate, solves it on its first path from
+// zero, exactly (in the rate form, whose runs come first). The answer must be a solution to
+// round-off and lie in the contact's admissible interval [0, 0.9519] without friction
+// (`unjam bounds --contacts K`).
 TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
   PerturbationResult r;
   ASSERT_NO_FATAL_FAILURE(OpenContactOfTheMu01Packing(133, 40, 317, r));
@@ -717,7 +748,8 @@ TEST(Perturbation, LemkeBoxFormResolvesAnOpeningTheSlipFormCannot) {
 
 // F_crit of a shift lies in the shift's interval over the admissible force networks
 // (indeterminacy/shift_bounds.hpp), to 1e-6.
-void ExpectInsideTheShiftsLpInterval(const EquilibriumSystem& system, const PerturbationTarget& t, double f_crit) {
+void ExpectInsideTheShiftsLpInterval(const EquilibriumSystem& system, const PerturbationTarget& t,
+                                     double f_crit) {
   const ShiftBoundsReport lp = ComputeShiftBounds(system, {{t.i, t.direction}}, {});
   ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
   EXPECT_GE(f_crit, lp.bounds[0].min.value - 1e-6) << t.i;
@@ -739,7 +771,8 @@ PerturbationTarget TopShiftOf(const PerturbationBase& base, int particle) {
 // small-gap check keeps it: status "ok") and its F_crit must lie in the shift's interval
 // over the admissible force networks (indeterminacy/shift_bounds.hpp).
 TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n200-w8-mu0.1.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n200-w8-mu0.1.unjam");
   PerturbationOptions o;
   o.backend = "lemke";
   o.fallback = "none";
@@ -770,7 +803,8 @@ TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
 // "dynamic"). With prefer_quasi_static the runs go on past it, and a later one ends on a
 // quasi-static solution, linear in ξ, whose F_crit lies in the shift's LP interval.
 TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
   PerturbationOptions o;
   o.backend = "lemke";
   o.fallback = "none";
@@ -800,7 +834,8 @@ TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
 // in the rate form (lemke_warm_start) ends on a quasi-static solution, linear in ξ and
 // inside the shift's LP interval.
 TEST(Perturbation, WarmStartInTheRateFormFindsAQuasiStaticShiftNoColdRunFinds) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
   PerturbationOptions o;
   o.fallback = "none";
   o.solver.lemke_warm_start = true;

@@ -4,11 +4,11 @@
 
 #include <utility>
 
+#include "../test_scenes.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/gravity_pile.hpp"
 #include "unjam/protocols/pressure_packing.hpp"
 #include "unjam/protocols/relax.hpp"
-#include "../test_scenes.hpp"
 
 namespace unjam {
 namespace {
@@ -31,16 +31,19 @@ RelaxReport CertifyAfterOneRoughStep(int refine_max_iterations, bool linear_prog
   relax.step_max_iterations = 1;
   relax.refine_max_iterations = refine_max_iterations;
   relax.linear_program = linear_program;
-  return CertifyAfterOneTinyStep(ReadPacking(UNJAM_SOURCE_DIR "/problems/pressure-n500-mu0.5.unjam"), relax);
+  return CertifyAfterOneTinyStep(
+      ReadPacking(UNJAM_SOURCE_DIR "/problems/pressure-n500-mu0.5.unjam"), relax);
 }
 
 TEST(Relax, LooseStepToleranceHoldsTheStepsGapsAboveTheProtocolTimeStep) {
   EXPECT_EQ(LooseStepTolerance(5e-3), 1e-4);
   EXPECT_EQ(LooseStepTolerance(kPackingTimeStep), 1e-4);
   EXPECT_DOUBLE_EQ(LooseStepTolerance(2.0 * kPackingTimeStep), 2.5e-5);
-  // Above the protocol step, tolerance × Δt² (the size of the gaps a step's error leaves) stays put.
+  // Above the protocol step, tolerance × Δt² (the size of the gaps a step's error
+  // leaves) stays put.
   for (double dt : {0.03, 0.05, 0.1}) {
-    EXPECT_NEAR(LooseStepTolerance(dt) * dt * dt, 1e-4 * kPackingTimeStep * kPackingTimeStep, 1e-20) << dt;
+    EXPECT_NEAR(LooseStepTolerance(dt) * dt * dt, 1e-4 * kPackingTimeStep * kPackingTimeStep, 1e-20)
+        << dt;
   }
 }
 
@@ -69,7 +72,8 @@ int HighestFreeParticle(const Scene& pile) {
 
 TEST(Relax, RefinementStopsOnAParticleThatKeepsFalling) {
   Scene pile = SmallPile();
-  pile.particles[HighestFreeParticle(pile)].position.y() += 0.05;  // lifted off its support: it falls in any step
+  pile.particles[HighestFreeParticle(pile)].position.y() +=
+      0.05;  // lifted off its support: it falls in any step
   RelaxOptions o;
   o.refine_max_iterations = 30000;
   const Refinement r = RefineStaticForces(pile, pile.forces, o);

@@ -28,7 +28,8 @@ TEST(StabilityCheck, EnergyIsKineticPlusPotentialInGravity) {
   s.particles[0].velocity = Vec2(1.0, 0.0);
   s.particles[0].spin = 2.0;
   const Particle& p = s.particles[0];
-  EXPECT_NEAR(SceneEnergy(s), p.Mass() * 2.0 * 3.0 + 0.5 * p.Mass() + 0.5 * p.Inertia() * 4.0, 1e-14);
+  EXPECT_NEAR(SceneEnergy(s), p.Mass() * 2.0 * 3.0 + 0.5 * p.Mass() + 0.5 * p.Inertia() * 4.0,
+              1e-14);
   EXPECT_NEAR(SceneEnergyScale(s), p.Mass() * 2.0 * 0.5, 1e-15);
   s.particles[0].fixed = true;  // a fixed particle has no energy
   EXPECT_EQ(SceneEnergy(s), 0.0);
@@ -74,7 +75,8 @@ TEST(StabilityCheck, AMotionIntoAWallIsReportedNeverSolved) {
 // tilted wall none). NSGS puts the weight on the tilted wall and lets the disk slide at
 // 6.7e-7 with a residual of 1e-12: the check must call that a failure, not a solution.
 TEST(StabilityCheck, CatchesAConvergedAnswerOutOfEquilibrium) {
-  const Scene s = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/near-coincident.unjam");
+  const Scene s =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/near-coincident.unjam");
   StabilityOptions o;
   o.backends = {"nsgs"};
   o.steps = 0;

@@ -42,7 +42,8 @@ TEST(StaticSolve, StoredNormalForcesNeverPull) {
     s.contacts[k].i = k;
     s.contacts[k].j = k + 1;
   }
-  s.forces = {Eigen::Vector2d(-6e-13, 0.0), Eigen::Vector2d(-1e-23, 1e-30), Eigen::Vector2d(1.5, -0.2)};
+  s.forces = {Eigen::Vector2d(-6e-13, 0.0), Eigen::Vector2d(-1e-23, 1e-30),
+              Eigen::Vector2d(1.5, -0.2)};
   const std::vector<ContactForce> stored = ToContactForces(s);
   ASSERT_EQ(stored.size(), 2u);
   EXPECT_EQ(stored[0].i, 1);
@@ -88,7 +89,8 @@ TEST(StaticSolve, VerticalStackCarriesCumulativeWeights) {
     ASSERT_TRUE(sol.report.converged()) << sol.report.message;
     const double w = s.particles[0].Mass();
     // Contact between disk i and i+1 carries the weight of the k−1−i disks above.
-    for (int i = 0; i + 1 < k; ++i) EXPECT_NEAR(NormalForceBetween(sol, i, i + 1), w * (k - 1 - i), 1e-9 * k * w);
+    for (int i = 0; i + 1 < k; ++i)
+      EXPECT_NEAR(NormalForceBetween(sol, i, i + 1), w * (k - 1 - i), 1e-9 * k * w);
     EXPECT_NEAR(NormalForceBetween(sol, 0, WallIndexToJ(0)), w * k, 1e-9 * k * w);
     EXPECT_LT(sol.equilibrium.residual, 1e-8);
   }

@@ -17,7 +17,9 @@
 namespace unjam {
 namespace {
 
-std::string Problem(const std::string& name) { return std::string(UNJAM_SOURCE_DIR) + "/problems/siconos/" + name; }
+std::string Problem(const std::string& name) {
+  return std::string(UNJAM_SOURCE_DIR) + "/problems/siconos/" + name;
+}
 
 struct Known {
   const char* file;
@@ -114,7 +116,8 @@ TEST_P(StoredProblem, BundledPileThroughAFileReachesTheResidualOfTheDirectSolve)
   // The direct solution judged through the file: the same residual, to rounding.
   Eigen::VectorXd direct_impulses(read.NumUnknowns());
   const std::vector<int>& source = posed.assembled.source_contact;
-  for (std::size_t k = 0; k < source.size(); ++k) direct_impulses.segment<2>(2 * k) = o.dt * direct.forces[source[k]];
+  for (std::size_t k = 0; k < source.size(); ++k)
+    direct_impulses.segment<2>(2 * k) = o.dt * direct.forces[source[k]];
   EXPECT_NEAR(ComputeResidual(read, direct_impulses).residual, direct.report.residual, 1e-12);
 }
 
@@ -124,7 +127,8 @@ INSTANTIATE_TEST_SUITE_P(All, StoredProblem, ::testing::ValuesIn(AvailableBacken
 TEST(ExportStaticProblem, HeldContactIsRefused) {
   Scene scene = testing::VGroove(1.2, 0.5);
   scene.effects.prescribed_gaps.push_back({0, 2, {0, 0}, 0.0});
-  const DelassusProblem p = ToDelassusProblem(PoseStaticProblem(scene, StaticSolveOptions{}).assembled.problem);
+  const DelassusProblem p =
+      ToDelassusProblem(PoseStaticProblem(scene, StaticSolveOptions{}).assembled.problem);
   EXPECT_THROW(FormatSiconosProblem(p), std::invalid_argument);
 }
 

@@ -13,13 +13,14 @@ using testing::StackProblem;
 
 TEST(BackendComparison, RunsEveryCombinationInOrderAndFindsTheUniqueForces) {
   std::vector<ComparisonProblem> problems;
-  problems.push_back({"stack", StackProblem(4, 0.0)});                       // frictionless: unique
+  problems.push_back({"stack", StackProblem(4, 0.0)});  // frictionless: unique
   problems.push_back({"slide (W form)", ToDelassusProblem(OneContact(1.0, 3.0, 0.5))});
   ComparisonOptions o;
   o.backends = {"nsgs", "newton"};
   o.tolerances = {1e-6, 1e-12};
   std::vector<ComparisonRun> runs;
-  const auto refs = CompareBackends(problems, o, [&](const ComparisonRun& r) { runs.push_back(r); });
+  const auto refs =
+      CompareBackends(problems, o, [&](const ComparisonRun& r) { runs.push_back(r); });
   ASSERT_EQ(refs.size(), 2u);
   ASSERT_EQ(runs.size(), 8u);
   EXPECT_EQ(runs[0].problem, "stack");
@@ -31,7 +32,8 @@ TEST(BackendComparison, RunsEveryCombinationInOrderAndFindsTheUniqueForces) {
     EXPECT_TRUE(r.report.converged()) << r.problem << " " << r.backend;
     EXPECT_LE(r.report.residual, r.tolerance);
     // Loose runs stop early, so their forces are only as close as their tolerance allows.
-    EXPECT_LT(r.force_distance, r.tolerance == 1e-12 ? 1e-9 : 1e-3) << r.problem << " " << r.backend;
+    EXPECT_LT(r.force_distance, r.tolerance == 1e-12 ? 1e-9 : 1e-3)
+        << r.problem << " " << r.backend;
   }
   for (const ComparisonReference& ref : refs) EXPECT_LE(ref.residual, 1e-13);
 }
@@ -41,8 +43,9 @@ TEST(BackendComparison, UnknownBackendIsRefusedBeforeAnyRun) {
   o.backends = {"nsgs", "no-such-backend"};
   o.tolerances = {1e-6};
   int runs = 0;
-  EXPECT_THROW(CompareBackends({{"stack", StackProblem(2, 0.0)}}, o, [&](const ComparisonRun&) { ++runs; }),
-               std::invalid_argument);
+  EXPECT_THROW(
+      CompareBackends({{"stack", StackProblem(2, 0.0)}}, o, [&](const ComparisonRun&) { ++runs; }),
+      std::invalid_argument);
   EXPECT_EQ(runs, 0);
 }
 

@@ -19,7 +19,9 @@ namespace {
 using testing::OneContact;
 using testing::StackProblem;
 
-std::string Bundled(const std::string& name) { return std::string(UNJAM_SOURCE_DIR) + "/problems/" + name; }
+std::string Bundled(const std::string& name) {
+  return std::string(UNJAM_SOURCE_DIR) + "/problems/" + name;
+}
 
 class Backend : public ::testing::TestWithParam<std::string> {
  protected:
@@ -32,9 +34,9 @@ class Backend : public ::testing::TestWithParam<std::string> {
 
 TEST_P(Backend, SticksSlidesAndOpensOneContactExactly) {
   // (v_n, v_t, μ) → (r_n, r_t): stick, slide, open.
-  for (auto [vn, vt, mu, rn, rt] : {std::tuple{1.0, 0.3, 1.0, 0.5, 0.1},
-                                     std::tuple{1.0, 3.0, 0.2, 0.5, 0.1},
-                                     std::tuple{-1.0, 0.3, 1.0, 0.0, 0.0}}) {
+  for (auto [vn, vt, mu, rn, rt] :
+       {std::tuple{1.0, 0.3, 1.0, 0.5, 0.1}, std::tuple{1.0, 3.0, 0.2, 0.5, 0.1},
+        std::tuple{-1.0, 0.3, 1.0, 0.0, 0.0}}) {
     const SolveResult r = Solve(OneContact(vn, vt, mu), 1e-13);
     ASSERT_TRUE(r.report.converged()) << r.report.message;
     EXPECT_NEAR(r.impulses[0], rn, 1e-12);
@@ -56,7 +58,9 @@ TEST_P(Backend, StackCarriesTheWeightAbove) {
     // Contacts sorted by (i, j); walls come first as j < 0, then (0,1), (1,2), …
     for (int c = 0; c < k; ++c) {
       EXPECT_NEAR(r.impulses[c * m], (k - c) * w, 1e-9) << "mu " << mu << " contact " << c;
-      if (m == 2) { EXPECT_NEAR(r.impulses[c * m + 1], 0.0, 1e-9); }
+      if (m == 2) {
+        EXPECT_NEAR(r.impulses[c * m + 1], 0.0, 1e-9);
+      }
     }
     EXPECT_LE(ComputeResidual(p, r.impulses).residual, 1e-12);
   }
@@ -71,7 +75,8 @@ TEST_P(Backend, VGrooveSupportsCarryHalfTheWeightAlongTheirNormals) {
   ASSERT_TRUE(s.report.converged()) << s.report.message;
   ASSERT_EQ(s.forces.size(), 2u);
   const double cos_theta = std::sqrt(4.0 - a * a) / 2.0;
-  for (const Eigen::Vector2d& f : s.forces) EXPECT_NEAR(f[0], std::numbers::pi / (2.0 * cos_theta), 1e-11);
+  for (const Eigen::Vector2d& f : s.forces)
+    EXPECT_NEAR(f[0], std::numbers::pi / (2.0 * cos_theta), 1e-11);
 }
 
 TEST_P(Backend, FrictionlessPackingFromColdReachesTheUniqueForces) {
@@ -125,7 +130,7 @@ TEST_P(Backend, FrictionalPileFromColdReachesTheSameResidualAsNsgs) {
 
 TEST_P(Backend, ReportsAFailureInsteadOfHidingIt) {
   SolverOptions o;
-  o.max_iterations = 1;          // NSGS sweeps (Newton: of its warm-up; ipopt, nlopt: convex solves)
+  o.max_iterations = 1;  // NSGS sweeps (Newton: of its warm-up; ipopt, nlopt: convex solves)
   o.newton_max_iterations = 1;
   o.ipopt_max_iterations = 1;
   o.nlopt_max_evaluations = 1;
@@ -149,7 +154,8 @@ TEST(Newton, LargeSystemsCarryTheWeightAbove) {
   s.cell.walls.push_back(testing::Floor());
   s.effects.gravity = Vec2(0.0, -1.0);
   for (int c = 0; c < stacks; ++c) {
-    for (int i = 0; i < k; ++i) s.particles.push_back(testing::Disk(1.25 + 2.5 * c, r + 2.0 * r * i, r));
+    for (int i = 0; i < k; ++i)
+      s.particles.push_back(testing::Disk(1.25 + 2.5 * c, r + 2.0 * r * i, r));
   }
   AssemblyOptions a;
   a.dt = 1.0;
@@ -192,7 +198,8 @@ TEST(Newton, TheProbeFromANearWarmStartSkipsTheWarmUp) {
     } else {
       EXPECT_GT(r.report.contact_updates, 0) << "the warm-up ran";
     }
-    for (int c = 0; c < k; ++c) EXPECT_NEAR(r.impulses[c * m], (k - c) * w, 1e-9) << "probe " << probe << " contact " << c;
+    for (int c = 0; c < k; ++c)
+      EXPECT_NEAR(r.impulses[c * m], (k - c) * w, 1e-9) << "probe " << probe << " contact " << c;
   }
 }
 
@@ -216,7 +223,8 @@ TEST(Newton, NearlyFrictionlessPackingReachesTheFrictionlessForces) {
   for (const ContactForce& f : ToContactForces(s)) {
     ASSERT_TRUE(stored.count({f.i, f.j}));
     EXPECT_NEAR(f.normal, stored.at({f.i, f.j}), 1e-9 * s.equilibrium.mean_contact_force);
-    EXPECT_LE(std::abs(f.tangential), 1e-8 * std::max(f.normal, 0.0));  // round-off normals of 1e-23 below zero occur
+    EXPECT_LE(std::abs(f.tangential),
+              1e-8 * std::max(f.normal, 0.0));  // round-off normals of 1e-23 below zero occur
   }
 }
 

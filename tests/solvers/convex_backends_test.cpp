@@ -80,11 +80,13 @@ TEST(ConvexRelaxation, LetsASlidingContactSeparateWhereTheExactLawSlides) {
     SolverOptions o = Tolerance(1e-12);
     o.convex_relaxation = true;
     const SolveResult relaxed = SolveWith(backend, p, o);
-    EXPECT_EQ(relaxed.report.status, SolveStatus::kRelaxedModel) << backend << ": " << relaxed.report.message;
+    EXPECT_EQ(relaxed.report.status, SolveStatus::kRelaxedModel)
+        << backend << ": " << relaxed.report.message;
     EXPECT_NEAR(relaxed.impulses[0], a, 1e-10) << backend;
     EXPECT_NEAR(relaxed.impulses[1], mu * a, 1e-10) << backend;
     EXPECT_NEAR(PosedContactVelocity(p, relaxed.impulses)[0], 2.0 * a - 1.0, 1e-9) << backend;
-    EXPECT_NEAR(relaxed.report.residual, ComputeResidual(p, relaxed.impulses).residual, 1e-15) << backend;
+    EXPECT_NEAR(relaxed.report.residual, ComputeResidual(p, relaxed.impulses).residual, 1e-15)
+        << backend;
     EXPECT_GT(relaxed.report.residual, 0.1) << backend;  // honest against the exact law
 
     const SolveResult exact = SolveWith(backend, p, Tolerance(1e-12));
@@ -126,8 +128,10 @@ TEST(ConvexBackends, HoldAContactOfAStackAtItsTargetVelocity) {
       const SolveResult r = SolveWith(backend, HeldStack(k, h, tau), Tolerance(1e-12));
       ASSERT_TRUE(r.report.converged()) << backend << " tau " << tau << ": " << r.report.message;
       for (int m = 0; m < k; ++m) {
-        EXPECT_NEAR(r.impulses[2 * m], expected[m], 1e-9) << backend << " tau " << tau << " contact " << m;
-        EXPECT_NEAR(r.impulses[2 * m + 1], 0.0, 1e-9) << backend << " tau " << tau << " contact " << m;
+        EXPECT_NEAR(r.impulses[2 * m], expected[m], 1e-9)
+            << backend << " tau " << tau << " contact " << m;
+        EXPECT_NEAR(r.impulses[2 * m + 1], 0.0, 1e-9)
+            << backend << " tau " << tau << " contact " << m;
       }
     }
   }
@@ -172,11 +176,14 @@ TEST(ConvexBackends, NameTheLibraryStatusWhenTheyStopShort) {
   SolverOptions o = Tolerance(1e-12);
   o.ipopt_max_iterations = 1;
   o.nlopt_max_evaluations = 1;
-  for (auto [backend, status] : {std::pair{"ipopt", "Maximum_Iterations_Exceeded"}, std::pair{"nlopt", "MAXEVAL_REACHED"}}) {
+  for (auto [backend, status] :
+       {std::pair{"ipopt", "Maximum_Iterations_Exceeded"}, std::pair{"nlopt", "MAXEVAL_REACHED"}}) {
     const SolveResult r = SolveWith(backend, StackProblem(12, 0.5), o);
     EXPECT_EQ(r.report.status, SolveStatus::kIterationLimit) << backend;
-    EXPECT_NE(r.report.message.find(status), std::string::npos) << backend << ": " << r.report.message;
-    EXPECT_NEAR(r.report.residual, ComputeResidual(StackProblem(12, 0.5), r.impulses).residual, 1e-15);
+    EXPECT_NE(r.report.message.find(status), std::string::npos)
+        << backend << ": " << r.report.message;
+    EXPECT_NEAR(r.report.residual, ComputeResidual(StackProblem(12, 0.5), r.impulses).residual,
+                1e-15);
   }
 }
 
@@ -189,7 +196,8 @@ TEST(ConvexBackends, SolveFromParallelThreadsAsTheyDoAlone) {
     std::vector<Eigen::VectorXd> results(4);
     std::vector<std::thread> threads;
     for (std::size_t t = 0; t < results.size(); ++t) {
-      threads.emplace_back([&, t] { results[t] = SolveWith(backend, p, Tolerance(1e-12)).impulses; });
+      threads.emplace_back(
+          [&, t] { results[t] = SolveWith(backend, p, Tolerance(1e-12)).impulses; });
     }
     for (std::thread& t : threads) t.join();
     for (const Eigen::VectorXd& r : results) EXPECT_EQ(r, alone) << backend;
@@ -203,7 +211,8 @@ TEST(Nlopt, CcsaqReachesTheStackForces) {
   o.nlopt_algorithm = NloptAlgorithm::kCcsaq;
   const SolveResult r = SolveWith("nlopt", StackProblem(12, 0.5), o);
   ASSERT_TRUE(r.report.converged()) << r.report.message;
-  for (int c = 0; c < 12; ++c) EXPECT_NEAR(r.impulses[2 * c], (12 - c) * std::numbers::pi / 4.0, 1e-7);
+  for (int c = 0; c < 12; ++c)
+    EXPECT_NEAR(r.impulses[2 * c], (12 - c) * std::numbers::pi / 4.0, 1e-7);
 }
 
 TEST(ConvexBackends, OptionRulesNameTheField) {

@@ -39,7 +39,9 @@ DelassusProblem Dense(int nc, std::initializer_list<double> w, std::initializer_
 }
 
 // W = diag(2, 4), q = (−1, d): r_n = 1/2 closes the contact; sticking needs r_t = −d/4.
-DelassusProblem Diagonal(double qn, double d, double mu) { return Dense(1, {2, 0, 0, 4}, {qn, d}, {mu}); }
+DelassusProblem Diagonal(double qn, double d, double mu) {
+  return Dense(1, {2, 0, 0, 4}, {qn, d}, {mu});
+}
 
 TEST(DelassusResidual, HandComputedValuesOfBothMeasures) {
   // r = 0 on W = diag(2, 4), q = (−1, 0.4), μ = 1: u = q, ŭ = (−0.6, 0.4).
@@ -59,7 +61,8 @@ TEST(DelassusResidual, EqualsTheBodyFormResidualForTheSameImpulses) {
   // Any impulses, exact or not: the W form judges them as the body form does.
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> noise(-0.3, 0.3);
-  for (const ContactProblem& p : {OneContact(1.0, 0.3, 1.0), OneContact(1.0, 3.0, 0.2), StackProblem(6, 0.5)}) {
+  for (const ContactProblem& p :
+       {OneContact(1.0, 0.3, 1.0), OneContact(1.0, 3.0, 0.2), StackProblem(6, 0.5)}) {
     const DelassusProblem w = ToDelassusProblem(p);
     for (int trial = 0; trial < 5; ++trial) {
       Eigen::VectorXd r(p.NumUnknowns());
@@ -71,7 +74,8 @@ TEST(DelassusResidual, EqualsTheBodyFormResidualForTheSameImpulses) {
 }
 
 TEST(DelassusResidual, BundledPileStoredForcesJudgedAlikeInBothForms) {
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   const ContactProblem p = PoseStaticProblem(scene, StaticSolveOptions{}).assembled.problem;
   const DelassusProblem w = ToDelassusProblem(p);
   ASSERT_EQ(p.initial_guess.size(), p.NumUnknowns());
@@ -120,7 +124,8 @@ TEST(SolveDelassus, InconsistentSizesAreRejected) {
 
 TEST(SolveDelassus, EveryBackendSolvesTheWForm) {
   for (const std::string& name : AvailableBackends()) {
-    const SolveResult r = MakeSolver(name)->SolveDelassus(Diagonal(-1.0, 0.4, 1.0), SolverOptions{});
+    const SolveResult r =
+        MakeSolver(name)->SolveDelassus(Diagonal(-1.0, 0.4, 1.0), SolverOptions{});
     EXPECT_EQ(r.report.status, SolveStatus::kConverged) << name << ": " << r.report.message;
   }
 }
@@ -162,7 +167,9 @@ TEST(SolveDelassus, ConvexBackendsRefuseANonSymmetricW) {
     EXPECT_EQ(r.report.residual, ComputeResidual(p, r.impulses).residual) << name;
   }
   for (const char* name : {"nsgs", "newton"}) {
-    EXPECT_EQ(MakeSolver(name)->SolveDelassus(p, SolverOptions{}).report.status, SolveStatus::kConverged) << name;
+    EXPECT_EQ(MakeSolver(name)->SolveDelassus(p, SolverOptions{}).report.status,
+              SolveStatus::kConverged)
+        << name;
   }
   // Rounding-level asymmetry (an assembled W) is accepted.
   DelassusProblem q = Dense(1, {2, 1, 1 + 1e-14, 4}, {-1.0, 0.0}, {1.0});
@@ -176,8 +183,8 @@ TEST(SolveDelassus, ConvexBackendsHoldMuZeroBilateralAndInertContacts) {
   // Three uncoupled contacts, W = diag(2, 4, 2, 4, 0, 0): μ = 0 (r_t = 0 exactly whatever
   // q_t), a held contact pulled apart (r_n = −1/2 < 0, r_t = 0), and a contact without
   // degrees of freedom (zero block: r = 0).
-  DelassusProblem p = Dense(3, {2, 0, 0, 0, 0, 0,  0, 4, 0, 0, 0, 0,  0, 0, 2, 0, 0, 0,
-                                0, 0, 0, 4, 0, 0,  0, 0, 0, 0, 0, 0,  0, 0, 0, 0, 0, 0},
+  DelassusProblem p = Dense(3, {2, 0, 0, 0, 0, 0, 0, 4, 0, 0, 0, 0, 0, 0, 2, 0, 0, 0,
+                                0, 0, 0, 4, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0},
                             {-1.0, 3.0, 1.0, 0.5, -1.0, 1.0}, {0.0, 0.5, 0.5});
   p.laws[1].kind = ConstraintKind::kBilateral;
   for (const char* name : {"ipopt", "nlopt"}) {
@@ -198,7 +205,8 @@ class DelassusBackend : public ::testing::TestWithParam<std::string> {
  protected:
   // Every backend solves the W form (docs/backends.md): none may report kUnsupported.
   void SetUp() override {
-    const SolveResult probe = MakeSolver(GetParam())->SolveDelassus(Diagonal(-1.0, 0.4, 1.0), SolverOptions{});
+    const SolveResult probe =
+        MakeSolver(GetParam())->SolveDelassus(Diagonal(-1.0, 0.4, 1.0), SolverOptions{});
     ASSERT_NE(probe.report.status, SolveStatus::kUnsupported) << probe.report.message;
   }
 
@@ -211,10 +219,9 @@ class DelassusBackend : public ::testing::TestWithParam<std::string> {
 
 TEST_P(DelassusBackend, SticksSlidesAndOpensOneContactExactly) {
   // W = diag(2, 4), q = (q_n, d): r_n = 1/2; stick r_t = −d/4; slide r_t = −μ/2 sign(u_t).
-  for (auto [qn, d, mu, rn, rt] : {std::tuple{-1.0, 0.4, 1.0, 0.5, -0.1},
-                                    std::tuple{-1.0, 4.0, 0.3, 0.5, -0.15},
-                                    std::tuple{-1.0, -4.0, 0.3, 0.5, 0.15},
-                                    std::tuple{1.0, 0.4, 1.0, 0.0, 0.0}}) {
+  for (auto [qn, d, mu, rn, rt] :
+       {std::tuple{-1.0, 0.4, 1.0, 0.5, -0.1}, std::tuple{-1.0, 4.0, 0.3, 0.5, -0.15},
+        std::tuple{-1.0, -4.0, 0.3, 0.5, 0.15}, std::tuple{1.0, 0.4, 1.0, 0.0, 0.0}}) {
     const SolveResult r = Solve(Diagonal(qn, d, mu), 1e-14);
     ASSERT_TRUE(r.report.converged()) << r.report.message;
     EXPECT_NEAR(r.impulses[0], rn, 1e-13) << "q_n " << qn << " d " << d;
@@ -226,8 +233,8 @@ TEST_P(DelassusBackend, CoupledBlockSticksAndSlidesExactly) {
   // W = [[2, 1], [1, 4]], q = (−1, d). d = 0: stick, r = W⁻¹(1, 0) = (4, −1)/7.
   // d = 4, μ = 0.2: the sticking impulse (8, −9)/7 leaves the cone; sliding with u_t > 0,
   // r = r_n (1, −μ), u_n = 0: r_n (2 − μ) = 1, r = (5/9, −1/9), u_t = 4 + 1/9 > 0.
-  for (auto [d, mu, rn, rt] : {std::tuple{0.0, 1.0, 4.0 / 7.0, -1.0 / 7.0},
-                               std::tuple{4.0, 0.2, 5.0 / 9.0, -1.0 / 9.0}}) {
+  for (auto [d, mu, rn, rt] :
+       {std::tuple{0.0, 1.0, 4.0 / 7.0, -1.0 / 7.0}, std::tuple{4.0, 0.2, 5.0 / 9.0, -1.0 / 9.0}}) {
     const SolveResult r = Solve(Dense(1, {2, 1, 1, 4}, {-1.0, d}, {mu}), 1e-14);
     ASSERT_TRUE(r.report.converged()) << r.report.message;
     EXPECT_NEAR(r.impulses[0], rn, 1e-13) << "d " << d;
@@ -238,7 +245,7 @@ TEST_P(DelassusBackend, CoupledBlockSticksAndSlidesExactly) {
 TEST_P(DelassusBackend, TwoCoupledContactsOneOpens) {
   // Normal block [[2, −1], [−1, 2]], q_n = (−1, 2): both closed would need r_1 < 0, so
   // contact 1 opens, r_0 = 1/2 and u_n,1 = −1/2 + 2 = 3/2 > 0. Tangents carry nothing.
-  const DelassusProblem p = Dense(2, {2, 0, -1, 0,  0, 3, 0, 0,  -1, 0, 2, 0,  0, 0, 0, 3},
+  const DelassusProblem p = Dense(2, {2, 0, -1, 0, 0, 3, 0, 0, -1, 0, 2, 0, 0, 0, 0, 3},
                                   {-1.0, 0.0, 2.0, 0.0}, {0.5, 0.5});
   const SolveResult r = Solve(p, 1e-14);
   ASSERT_TRUE(r.report.converged()) << r.report.message;
@@ -264,7 +271,8 @@ TEST_P(DelassusBackend, BundledFrictionalPileReachesTheBodyFormResidual) {
   // on the W form: nsgs and newton stall near 1e-7–1e-8 on the body form, ipopt does not.
   Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   scene.forces.clear();
-  const DelassusProblem p = ToDelassusProblem(PoseStaticProblem(scene, StaticSolveOptions{}).assembled.problem);
+  const DelassusProblem p =
+      ToDelassusProblem(PoseStaticProblem(scene, StaticSolveOptions{}).assembled.problem);
   if (GetParam() == "nlopt") {
     // The documented limit of nlopt (docs/backends.md), as in the body form: bounded L-BFGS
     // on the degenerate QP of the hyperstatic pile stalls near 1e-7 and says so.
@@ -291,7 +299,8 @@ TEST_P(DelassusBackend, ReportsAFailureInsteadOfHidingIt) {
   o.nlopt_max_evaluations = 1;
   o.check_interval = 1;
   o.tolerance = 1e-14;
-  const SolveResult r = MakeSolver(GetParam())->SolveDelassus(ToDelassusProblem(StackProblem(40, 0.3)), o);
+  const SolveResult r =
+      MakeSolver(GetParam())->SolveDelassus(ToDelassusProblem(StackProblem(40, 0.3)), o);
   EXPECT_EQ(r.report.status, SolveStatus::kIterationLimit);
   EXPECT_GT(r.report.residual, o.tolerance);
 }

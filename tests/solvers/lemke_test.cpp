@@ -58,7 +58,8 @@ TEST(LemkeCore, KeepsAComponentAtZeroWhenItsSlackIsPositive) {
 
 TEST(LemkeCore, DegenerateTiesAreResolved) {
   // Three identical rows reach zero together at every step.
-  const auto r = SolveMlcp(Lcp(Dense(3, 3, {1, 0, 0, 0, 1, 0, 0, 0, 1}), Eigen::Vector3d(-1, -1, -1)), 100, 1e-16);
+  const auto r = SolveMlcp(
+      Lcp(Dense(3, 3, {1, 0, 0, 0, 1, 0, 0, 0, 1}), Eigen::Vector3d(-1, -1, -1)), 100, 1e-16);
   ASSERT_EQ(r.outcome, LemkeOutcome::kSolved) << r.message;
   EXPECT_NEAR((r.z - Eigen::Vector3d::Ones()).norm(), 0.0, 1e-15);
 }
@@ -186,7 +187,8 @@ TEST(LemkeBackend, FrictionalOpeningIsResolvedAndInsideTheAdmissibleInterval) {
   // Contact 49–208 of the default packing (μ = 0.5): newton stalls near 1e-11 on it
   // (docs/backends.md). Lemke resolves it to round-off; the response is quasi-static and its
   // F_crit lies in the LP interval [min, max without friction] of the same contact.
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   o.backend = "lemke";
   const PerturbationBase base = PreparePerturbations(scene, o);

@@ -52,9 +52,9 @@ TEST(Residual, ZeroExactlyAtTheClosedFormSolutions) {
 }
 
 TEST(Nsgs, SolvesOneContactExactlyInOneSweep) {
-  for (auto [vn, vt, mu, rn, rt] : {std::tuple{1.0, 0.3, 1.0, 0.5, 0.1},
-                                     std::tuple{1.0, 3.0, 0.2, 0.5, 0.1},
-                                     std::tuple{-1.0, 0.3, 1.0, 0.0, 0.0}}) {
+  for (auto [vn, vt, mu, rn, rt] :
+       {std::tuple{1.0, 0.3, 1.0, 0.5, 0.1}, std::tuple{1.0, 3.0, 0.2, 0.5, 0.1},
+        std::tuple{-1.0, 0.3, 1.0, 0.0, 0.0}}) {
     SolveResult r = MakeSolver("nsgs")->Solve(OneContact(vn, vt, mu), SolverOptions{});
     EXPECT_TRUE(r.report.converged());
     EXPECT_NEAR(r.impulses[0], rn, 1e-15);
@@ -62,7 +62,6 @@ TEST(Nsgs, SolvesOneContactExactlyInOneSweep) {
     EXPECT_LE(r.report.iterations, 10);
   }
 }
-
 
 TEST(Nsgs, ReportsTheIterationLimitInsteadOfHidingIt) {
   SolverOptions o;
@@ -77,7 +76,8 @@ TEST(Nsgs, ReportsTheIterationLimitInsteadOfHidingIt) {
 
 TEST(Nsgs, EverySweepOrderAndRelaxationReachesTheUniqueForces) {
   const ContactProblem p = StackProblem(12, 0.0);
-  for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric, SweepOrder::kLocal, SweepOrder::kHeight}) {
+  for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric,
+                           SweepOrder::kLocal, SweepOrder::kHeight}) {
     for (double omega : {1.0, 1.5}) {
       SolverOptions o;
       o.sweep_order = order;
@@ -151,7 +151,8 @@ TEST(Nsgs, HeightOrderReturnsEveryImpulseToItsOwnContact) {
   const double w = std::numbers::pi * r * r;
   for (int q = 0; q < k; ++q) {
     const int c = static_cast<int>(std::lround(p.contacts[q].height / (2.0 * r)));
-    EXPECT_NEAR(res.impulses[2 * q], (k - c) * w, 1e-9 * k * w) << "contact " << q << " at level " << c;
+    EXPECT_NEAR(res.impulses[2 * q], (k - c) * w, 1e-9 * k * w)
+        << "contact " << q << " at level " << c;
     EXPECT_NEAR(res.impulses[2 * q + 1], 0.0, 1e-9 * k * w) << "contact " << q;
   }
 }
@@ -196,7 +197,8 @@ TEST(NsgsThreads, ReachTheUniqueForcesOfStacks) {
     ASSERT_TRUE(r.report.converged()) << ToString(order) << " " << r.report.residual;
     for (int q = 0; q < p.NumContacts(); ++q) {
       const int c = static_cast<int>(std::lround(p.contacts[q].height));
-      EXPECT_NEAR(r.impulses[2 * q], (k - c) * w, 1e-9 * k * w) << ToString(order) << " contact " << q;
+      EXPECT_NEAR(r.impulses[2 * q], (k - c) * w, 1e-9 * k * w)
+          << ToString(order) << " contact " << q;
       EXPECT_NEAR(r.impulses[2 * q + 1], 0.0, 1e-9 * k * w) << ToString(order) << " contact " << q;
     }
   }
@@ -209,7 +211,8 @@ TEST(NsgsThreads, ReachTheUniqueForcesOfStacks) {
 // threads give the same bits twice.
 double CellLoad(const ContactProblem& p, const Eigen::VectorXd& impulses) {
   double load = 0.0;
-  for (int k = 0; k < p.NumContacts(); ++k) load += p.contacts[k].cell_arm * impulses[k * p.UnknownsPerContact()];
+  for (int k = 0; k < p.NumContacts(); ++k)
+    load += p.contacts[k].cell_arm * impulses[k * p.UnknownsPerContact()];
   return load;
 }
 

@@ -26,7 +26,8 @@ struct PileShift {
 
 PileShift SmallPileShift() {
   PileShift s;
-  const Scene scene = ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
   s.base = PreparePerturbations(scene, s.options);
   const std::vector<PerturbationTarget> top = TopTargets(s.base);
   EXPECT_EQ(top[5].i, 33);
@@ -34,7 +35,9 @@ PileShift SmallPileShift() {
   return s;
 }
 
-double L1Distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).cwiseAbs().sum(); }
+double L1Distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return (a - b).cwiseAbs().sum();
+}
 
 TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   const PileShift s = SmallPileShift();
@@ -43,7 +46,8 @@ TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   o.lemke_velocity_scale = s.options.gap / s.options.dt;
   const SolveResult path = MakeSolver("lemke")->Solve(s.problem, o);
   ASSERT_TRUE(path.report.converged()) << path.report.message;
-  const PatternSolution nearest = SolveOnPattern(s.problem, path.impulses, s.problem.initial_guess, o.lemke_velocity_scale, 1.0);
+  const PatternSolution nearest = SolveOnPattern(s.problem, path.impulses, s.problem.initial_guess,
+                                                 o.lemke_velocity_scale, 1.0);
   ASSERT_TRUE(nearest.found) << nearest.message;
   EXPECT_LT(ComputeResidual(s.problem, nearest.impulses).residual, 1e-13);
   // Another member: impulses that differ by O(1), not by the O(ξ) of the response, and
@@ -51,7 +55,8 @@ TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   // the path ends on, which round-off decides: above 1 with the reference BLAS, 0.70 with
   // OpenBLAS; a million ξ tells a member from the response.)
   EXPECT_GT((nearest.impulses - path.impulses).cwiseAbs().maxCoeff(), 1e6 * s.options.gap);
-  EXPECT_LT(L1Distance(nearest.impulses, s.problem.initial_guess), L1Distance(path.impulses, s.problem.initial_guess));
+  EXPECT_LT(L1Distance(nearest.impulses, s.problem.initial_guess),
+            L1Distance(path.impulses, s.problem.initial_guess));
   // With the same motion: every end velocity within 1 % of the response of the path's.
   const Eigen::VectorXd v_path = EndVelocity(s.problem, path.impulses);
   const Eigen::VectorXd v_nearest = EndVelocity(s.problem, nearest.impulses);
@@ -65,10 +70,13 @@ TEST(PatternLp, APatternNoSolutionHasIsReported) {
   // Pulling impulses (the static ones reversed) read as every contact open: nothing holds
   // the pile up against gravity.
   const Eigen::VectorXd pulling = -s.problem.initial_guess;
-  const PatternSolution r = SolveOnPattern(s.problem, pulling, s.problem.initial_guess, s.options.gap / s.options.dt, 1.0);
+  const PatternSolution r = SolveOnPattern(s.problem, pulling, s.problem.initial_guess,
+                                           s.options.gap / s.options.dt, 1.0);
   EXPECT_FALSE(r.found);
-  EXPECT_GT(r.pattern.open, 0.9 * s.problem.NumContacts());  // all but contacts without a static force
-  EXPECT_NE(r.message.find("static forces of the pattern: infeasible"), std::string::npos) << r.message;
+  EXPECT_GT(r.pattern.open,
+            0.9 * s.problem.NumContacts());  // all but contacts without a static force
+  EXPECT_NE(r.message.find("static forces of the pattern: infeasible"), std::string::npos)
+      << r.message;
 }
 
 TEST(PatternLp, BadInputIsRefused) {

@@ -104,7 +104,8 @@ TEST(Dynamics, HeadOnCollisionConservesMomentumWithoutRebound) {
   s.particles = {Disk(5.0, 5.0, 1.0), Disk(8.0, 5.0, 0.5)};
   s.particles[0].velocity = Vec2(2.0, 0.0);
   s.particles[1].velocity = Vec2(-1.0, 0.0);
-  const Vec2 momentum = s.particles[0].Mass() * s.particles[0].velocity + s.particles[1].Mass() * s.particles[1].velocity;
+  const Vec2 momentum = s.particles[0].Mass() * s.particles[0].velocity +
+                        s.particles[1].Mass() * s.particles[1].velocity;
   Simulation sim(s, Options(1e-3));
   for (int n = 0; n < 2000; ++n) sim.Step();
   const auto& p = sim.scene().particles;

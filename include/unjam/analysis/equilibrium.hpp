@@ -16,12 +16,12 @@ namespace unjam {
 inline constexpr double kStaticEquilibriumTolerance = 1e-8;
 
 struct EquilibriumReport {
-  double mean_contact_force = 0.0;   // mean f_n over force-carrying contacts
-  double max_force_imbalance = 0.0;  // max over free particles |F_ext + Σ f| / mean f_n
-  double max_torque_imbalance = 0.0; // max |Σ torque| / (mean f_n · mean radius)
+  double mean_contact_force = 0.0;    // mean f_n over force-carrying contacts
+  double max_force_imbalance = 0.0;   // max over free particles |F_ext + Σ f| / mean f_n
+  double max_torque_imbalance = 0.0;  // max |Σ torque| / (mean f_n · mean radius)
   int worst_particle = -1;
-  double residual = 0.0;             // max of the two imbalances
-  double pressure = 0.0;             // virial Σ f·l / (D V) (fully periodic cells), else 0
+  double residual = 0.0;  // max of the two imbalances
+  double pressure = 0.0;  // virial Σ f·l / (D V) (fully periodic cells), else 0
   int force_carrying_contacts = 0;
 };
 
@@ -36,7 +36,7 @@ EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact
 // for the free particle only.
 struct Coordination {
   double z = 0.0;
-  int rattlers = 0;                  // free particles without any force-carrying contact
+  int rattlers = 0;  // free particles without any force-carrying contact
   int force_carrying_contacts = 0;
 };
 Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,

@@ -22,10 +22,10 @@ double PearsonCorrelation(const std::vector<double>& x, const std::vector<double
 
 // Values binned in logarithmically spaced bins of a positive coordinate r.
 struct LogBin {
-  double r_low = 0.0, r_high = 0.0;   // bin edges
-  double r_mean = 0.0;                // mean r of the samples in the bin
-  double mean = 0.0;                  // mean value
-  double error = 0.0;                 // standard error of the mean value
+  double r_low = 0.0, r_high = 0.0;  // bin edges
+  double r_mean = 0.0;               // mean r of the samples in the bin
+  double mean = 0.0;                 // mean value
+  double error = 0.0;                // standard error of the mean value
   int count = 0;
 };
 // Bins [r_min, r_max) into `bins_per_decade` bins per decade; samples outside, or with
@@ -40,9 +40,9 @@ std::vector<LogBin> LogBinned(const std::vector<double>& r, const std::vector<do
 struct PowerLawFit {
   double alpha = 0.0;
   double alpha_error = 0.0;
-  double prefactor = 0.0;             // y = prefactor · x^(−alpha)
+  double prefactor = 0.0;  // y = prefactor · x^(−alpha)
   double fit_min = 0.0, fit_max = 0.0;
-  int points = 0;                     // bins used; < 3 means no fit (alpha = NaN)
+  int points = 0;  // bins used; < 3 means no fit (alpha = NaN)
 };
 PowerLawFit FitPowerLaw(const std::vector<LogBin>& bins, double fit_min, double fit_max);
 

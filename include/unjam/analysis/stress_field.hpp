@@ -21,12 +21,14 @@
 namespace unjam {
 
 struct GridSpec {
-  Vec2 origin = Vec2::Zero();   // lower-left corner of box (0, 0)
-  Vec2 side = Vec2(2.0, 2.0);   // box sides along x and y
+  Vec2 origin = Vec2::Zero();  // lower-left corner of box (0, 0)
+  Vec2 side = Vec2(2.0, 2.0);  // box sides along x and y
   int nx = 1, ny = 1;
   bool periodic_x = false, periodic_y = false;
 
-  Vec2 BoxCenter(int ix, int iy) const { return origin + Vec2((ix + 0.5) * side.x(), (iy + 0.5) * side.y()); }
+  Vec2 BoxCenter(int ix, int iy) const {
+    return origin + Vec2((ix + 0.5) * side.x(), (iy + 0.5) * side.y());
+  }
   Vec2 BoxCenter(int box) const { return BoxCenter(box % nx, box / nx); }  // box = iy · nx + ix
 };
 
@@ -38,9 +40,9 @@ GridSpec CellGrid(const Cell& cell, double side, Vec2 lower, Vec2 upper);
 
 // One contact's segment and force (force on j, l = x_j + image shift − x_i).
 struct StressSegment {
-  Vec2 start = Vec2::Zero();  // x_i
-  Vec2 branch = Vec2::Zero(); // l
-  Vec2 force = Vec2::Zero();  // f = f_n n + f_t t
+  Vec2 start = Vec2::Zero();   // x_i
+  Vec2 branch = Vec2::Zero();  // l
+  Vec2 force = Vec2::Zero();   // f = f_n n + f_t t
 };
 
 struct StressGrid {

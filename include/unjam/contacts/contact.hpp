@@ -16,13 +16,14 @@ namespace unjam {
 
 struct Contact {
   int i = -1;
-  int j = -1;                          // particle index, or a wall (IsWallIndex(j))
-  std::array<int, 2> image = {0, 0};   // j is taken at x_j + image ⊙ cell size
-  Vec2 normal = Vec2(1.0, 0.0);        // unit, from i to j
+  int j = -1;                         // particle index, or a wall (IsWallIndex(j))
+  std::array<int, 2> image = {0, 0};  // j is taken at x_j + image ⊙ cell size
+  Vec2 normal = Vec2(1.0, 0.0);       // unit, from i to j
   double gap = 0.0;
-  Vec2 branch_i = Vec2::Zero();        // centre of i to the contact point (= R_i n)
-  Vec2 branch_j = Vec2::Zero();        // centre of j to the contact point (= −R_j n; zero for a wall)
-  Vec2 center_to_center = Vec2::Zero();// x_j + shift − x_i (minimum image); for a wall, (R_i + gap) n
+  Vec2 branch_i = Vec2::Zero();  // centre of i to the contact point (= R_i n)
+  Vec2 branch_j = Vec2::Zero();  // centre of j to the contact point (= −R_j n; zero for a wall)
+  Vec2 center_to_center =
+      Vec2::Zero();  // x_j + shift − x_i (minimum image); for a wall, (R_i + gap) n
 
   bool WithWall() const { return IsWallIndex(j); }
 };
@@ -44,13 +45,15 @@ inline bool ForceKeyLess(const ContactForce& a, const ContactForce& b) {
 
 // Index of the contact (i, j, image) in `sorted` (ordered by ContactKeyLess, as detection
 // returns them), or −1.
-inline int FindContact(const std::vector<Contact>& sorted, int i, int j, const std::array<int, 2>& image) {
+inline int FindContact(const std::vector<Contact>& sorted, int i, int j,
+                       const std::array<int, 2>& image) {
   Contact probe;
   probe.i = i;
   probe.j = j;
   probe.image = image;
   auto it = std::lower_bound(sorted.begin(), sorted.end(), probe, ContactKeyLess);
-  return it == sorted.end() || !SameContactKey(*it, probe) ? -1 : static_cast<int>(it - sorted.begin());
+  return it == sorted.end() || !SameContactKey(*it, probe) ? -1
+                                                           : static_cast<int>(it - sorted.begin());
 }
 
 // Forces (stored, saved, or a reference) looked up by the key of a contact: sorted once,

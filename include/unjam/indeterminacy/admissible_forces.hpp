@@ -42,14 +42,15 @@ struct AdmissibleOptions {
 
 struct AdmissibleForces {
   AdmissibleStatus status = AdmissibleStatus::kFailed;
-  Eigen::VectorXd forces;            // the system's unknowns
-  double balance_residual = 0.0;     // max |A f − b| / force scale
-  std::string method;                // "projection", "linear-program", or "" if none found
+  Eigen::VectorXd forces;         // the system's unknowns
+  double balance_residual = 0.0;  // max |A f − b| / force scale
+  std::string method;             // "projection", "linear-program", or "" if none found
   std::string message;
   double seconds = 0.0;
 };
 
-AdmissibleForces NearestAdmissibleForces(const EquilibriumSystem& system, const Eigen::VectorXd& reference,
+AdmissibleForces NearestAdmissibleForces(const EquilibriumSystem& system,
+                                         const Eigen::VectorXd& reference,
                                          const AdmissibleOptions& options = {});
 
 // max |A f − b| / force scale.

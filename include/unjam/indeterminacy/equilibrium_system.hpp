@@ -32,9 +32,9 @@ struct EquilibriumSystemOptions {
 };
 
 struct EquilibriumSystem {
-  std::vector<Contact> contacts;       // the closed contacts, the unknowns' order
-  std::vector<Vec2> contact_points;    // per contact: x_i + branch_i (as seen from i)
-  bool frictional = false;             // two unknowns per contact, else one
+  std::vector<Contact> contacts;     // the closed contacts, the unknowns' order
+  std::vector<Vec2> contact_points;  // per contact: x_i + branch_i (as seen from i)
+  bool frictional = false;           // two unknowns per contact, else one
   double mu = 0.0;
   Eigen::SparseMatrix<double> matrix;  // A: rows × UnknownsPerContact()·contacts
   Eigen::VectorXd load;                // b
@@ -48,13 +48,16 @@ struct EquilibriumSystem {
   int NumRows() const { return static_cast<int>(load.size()); }
 };
 
-EquilibriumSystem BuildEquilibriumSystem(const Scene& scene, const EquilibriumSystemOptions& options = {});
+EquilibriumSystem BuildEquilibriumSystem(const Scene& scene,
+                                         const EquilibriumSystemOptions& options = {});
 
 // Forces (f_n, f_t) per contact of the system from the forces stored with a scene (matched by
 // particles and image; zero where none is stored), as one vector of unknowns.
-Eigen::VectorXd StoredForcesOf(const EquilibriumSystem& system, const std::vector<ContactForce>& stored);
+Eigen::VectorXd StoredForcesOf(const EquilibriumSystem& system,
+                               const std::vector<ContactForce>& stored);
 
 // The scene's force list (force-carrying contacts only) from a vector of unknowns.
-std::vector<ContactForce> ToContactForces(const EquilibriumSystem& system, const Eigen::VectorXd& forces);
+std::vector<ContactForce> ToContactForces(const EquilibriumSystem& system,
+                                          const Eigen::VectorXd& forces);
 
 }  // namespace unjam

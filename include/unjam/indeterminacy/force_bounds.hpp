@@ -31,7 +31,7 @@ std::optional<BoundStatus> BoundStatusFromString(const std::string& name);
 
 struct Bound {
   BoundStatus status = BoundStatus::kFailed;
-  double value = 0.0;               // meaningful only when status is kOptimal
+  double value = 0.0;  // meaningful only when status is kOptimal
   bool ok() const { return status == BoundStatus::kOptimal; }
 };
 
@@ -41,21 +41,25 @@ const char* ToString(BoundKind kind);
 std::optional<BoundKind> BoundKindFromString(const std::string& name);
 
 struct ContactBounds {
-  int contact = -1;                 // index into EquilibriumSystem::contacts
-  double reference = 0.0;           // f_n of the reference (stored) forces
+  int contact = -1;        // index into EquilibriumSystem::contacts
+  double reference = 0.0;  // f_n of the reference (stored) forces
   Bound min, max, max_without_friction;
-  Bound& Of(BoundKind kind) { return kind == BoundKind::kMin ? min : kind == BoundKind::kMax ? max : max_without_friction; }
-  const Bound& Of(BoundKind kind) const { return kind == BoundKind::kMin ? min : kind == BoundKind::kMax ? max : max_without_friction; }
+  Bound& Of(BoundKind kind) {
+    return kind == BoundKind::kMin ? min : kind == BoundKind::kMax ? max : max_without_friction;
+  }
+  const Bound& Of(BoundKind kind) const {
+    return kind == BoundKind::kMin ? min : kind == BoundKind::kMax ? max : max_without_friction;
+  }
 };
 
 // One bound as it was obtained: what a long run writes as it goes and resumes from
 // (`unjam bounds -o`, docs/indeterminacy.md, "Long runs").
 struct BoundRecord {
-  int contact = -1;                 // index into EquilibriumSystem::contacts
+  int contact = -1;  // index into EquilibriumSystem::contacts
   BoundKind kind = BoundKind::kMax;
   Bound bound;
-  long long iterations = 0;         // simplex iterations of its LP (0 for a shortcut)
-  bool shortcut = false;            // answered by an earlier optimal network, no LP
+  long long iterations = 0;  // simplex iterations of its LP (0 for a shortcut)
+  bool shortcut = false;     // answered by an earlier optimal network, no LP
 };
 
 enum class LpBackend { kClp, kIpopt };
@@ -67,9 +71,10 @@ struct BoundsOptions {
   // thread: Ipopt with sequential MUMPS is not thread-safe). The feasibility check of the
   // ensemble is CLP's in both cases.
   LpBackend lp = LpBackend::kClp;
-  bool warm_start = true;           // CLP: false = every LP from the slack basis (for comparison)
-  double lp_tolerance = 1e-10;      // CLP primal and dual tolerances, Ipopt's tol; relative (forces / F)
-  int threads = 1;                  // contacts split in contiguous blocks, one model each
+  bool warm_start = true;  // CLP: false = every LP from the slack basis (for comparison)
+  double lp_tolerance =
+      1e-10;        // CLP primal and dual tolerances, Ipopt's tol; relative (forces / F)
+  int threads = 1;  // contacts split in contiguous blocks, one model each
   // CLP: skip an LP whose answer an earlier optimal solution of the same block already
   // proves (min f_n,k = 0 when a network with f_n,k = 0 was seen; max without friction =
   // max when the maximising network has f_t,k = 0). false runs every LP (for comparison).
@@ -93,18 +98,19 @@ struct BoundsOptions {
 struct BoundsReport {
   std::vector<ContactBounds> bounds;
   bool feasible = false;
-  std::string message;              // why not, when infeasible
+  std::string message;  // why not, when infeasible
   double seconds = 0.0;
-  long long lp_iterations = 0;      // simplex iterations over all LPs
-  long long lps_skipped = 0;        // LPs answered by a shortcut (BoundsOptions::shortcuts)
-  long long bounds_known = 0;       // taken from BoundsOptions::known
-  bool complete = true;             // false: BoundsOptions::start_before stopped the run
+  long long lp_iterations = 0;  // simplex iterations over all LPs
+  long long lps_skipped = 0;    // LPs answered by a shortcut (BoundsOptions::shortcuts)
+  long long bounds_known = 0;   // taken from BoundsOptions::known
+  bool complete = true;         // false: BoundsOptions::start_before stopped the run
 };
 
 // `contacts`: indices into system.contacts. `reference`: the system's unknowns (e.g. the
 // stored forces), reported beside the bounds.
 BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vector<int>& contacts,
-                                const Eigen::VectorXd& reference, const BoundsOptions& options = {});
+                                const Eigen::VectorXd& reference,
+                                const BoundsOptions& options = {});
 
 // The report that `known` alone makes, without an LP (rank 0 of an mpirun, once the ranks'
 // records are merged): every bound of `contacts` taken from `known`, the ensemble taken as
@@ -112,16 +118,17 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
 // missing. A frictionless system's maximum without friction is its maximum, as
 // ComputeForceBounds gives it.
 BoundsReport BoundsFromRecords(const EquilibriumSystem& system, const std::vector<int>& contacts,
-                               const Eigen::VectorXd& reference, const std::vector<BoundRecord>& known);
+                               const Eigen::VectorXd& reference,
+                               const std::vector<BoundRecord>& known);
 
 struct Indeterminacy {
-  int unknowns = 0;                 // force components
-  int equations = 0;                // balance rows
-  int rank = 0;                     // min of the estimates below and of the row identities
-  int rank_of_a = 0;                // SuiteSparseQR of A (an upper estimate)
-  int rank_transposed = 0;          // SuiteSparseQR of Aᵀ (an upper estimate)
-  int dimension = 0;                // unknowns − rank
-  double tolerance = 0.0;           // rank tolerance used
+  int unknowns = 0;         // force components
+  int equations = 0;        // balance rows
+  int rank = 0;             // min of the estimates below and of the row identities
+  int rank_of_a = 0;        // SuiteSparseQR of A (an upper estimate)
+  int rank_transposed = 0;  // SuiteSparseQR of Aᵀ (an upper estimate)
+  int dimension = 0;        // unknowns − rank
+  double tolerance = 0.0;   // rank tolerance used
 };
 // Rank tolerance: 1e-10 × the largest column 2-norm of A (rows in force units: each entry is
 // a direction cosine, a lever arm or a scaled cell arm), documented in docs/indeterminacy.md.

@@ -18,13 +18,14 @@ namespace unjam {
 
 class LeastNormSolver {
  public:
-  // A column this full goes to the Woodbury update. Until 2026-11-25 it was 4096, which
-  // left the cell column of an N = 3000 closure (about 3 900 contacts) in a dense
-  // factorisation of G Gᵀ: 18 s of a 126 s packing run, against 0.02 s now, with the same
-  // packing bit for bit (docs/performance.md). The N = 500 closures (under 1 000
-  // contacts) keep the dense path and their bits.
+  // A column this full goes to the Woodbury update. 1024 takes the cell column of an
+  // N = 3000 closure (about 3 900 contacts) out of the factorisation of G Gᵀ, which it
+  // would make dense: 18 s of a 126 s packing run, against 0.02 s through the update,
+  // the packing bit for bit the same either way (docs/performance.md). The N = 500 closures
+  // (under 1 000 contacts) keep the cell column in the factorisation.
   static constexpr int kDenseColumn = 1024;
-  LeastNormSolver(const Eigen::SparseMatrix<double>& g, double relative_ridge, int dense_column = kDenseColumn);
+  LeastNormSolver(const Eigen::SparseMatrix<double>& g, double relative_ridge,
+                  int dense_column = kDenseColumn);
   ~LeastNormSolver();
   LeastNormSolver(const LeastNormSolver&) = delete;
   LeastNormSolver& operator=(const LeastNormSolver&) = delete;

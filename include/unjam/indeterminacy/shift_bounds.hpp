@@ -34,15 +34,15 @@ struct ShiftTarget {
 
 struct ShiftBounds {
   ShiftTarget target;
-  double reference = 0.0;            // F_crit of the reference forces (the stored network)
-  int unloaded_contacts = 0;         // contacts with fixed bodies that the shift opens
+  double reference = 0.0;     // F_crit of the reference forces (the stored network)
+  int unloaded_contacts = 0;  // contacts with fixed bodies that the shift opens
   Bound min, max;
 };
 
 struct ShiftBoundsReport {
   std::vector<ShiftBounds> bounds;
-  bool feasible = false;             // the ensemble of the unperturbed packing
-  std::string message;               // why not, when infeasible
+  bool feasible = false;  // the ensemble of the unperturbed packing
+  std::string message;    // why not, when infeasible
   double seconds = 0.0;
   long long lp_iterations = 0;
 };
@@ -50,7 +50,9 @@ struct ShiftBoundsReport {
 // CLP only (options.lp must be kClp): each shift's LPs start from the optimal basis of the
 // unperturbed ensemble (or from the slack basis with options.warm_start = false); shifts are
 // split among options.threads. `reference`: the system's unknowns (e.g. the stored forces).
-ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system, const std::vector<ShiftTarget>& shifts,
-                                     const Eigen::VectorXd& reference, const BoundsOptions& options = {});
+ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system,
+                                     const std::vector<ShiftTarget>& shifts,
+                                     const Eigen::VectorXd& reference,
+                                     const BoundsOptions& options = {});
 
 }  // namespace unjam

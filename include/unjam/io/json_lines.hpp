@@ -17,7 +17,7 @@ namespace unjam {
 struct JsonLines {
   nlohmann::json header;
   std::vector<std::pair<int, nlohmann::json>> lines;  // (line number, object) after the header
-  std::uintmax_t valid_bytes = 0;                      // length of the complete lines (a torn last line is not)
+  std::uintmax_t valid_bytes = 0;  // length of the complete lines (a torn last line is not)
 };
 
 // A last line cut short by an interruption is ignored (valid_bytes ends before it); any other
@@ -35,8 +35,8 @@ std::ofstream AppendTo(const std::filesystem::path& path, const nlohmann::json& 
 
 // Throws std::invalid_argument (a usage error) naming `path` and the keys that differ when
 // `found` (its header) is not `expected`; `remedy` says what to do.
-void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found, const nlohmann::json& expected,
-                   const std::string& remedy);
+void RequireHeader(const std::filesystem::path& path, const nlohmann::json& found,
+                   const nlohmann::json& expected, const std::string& remedy);
 
 // Under mpirun every rank appends to its own file: `path` (X.jsonl) for rank 0, X.rank<r>.jsonl
 // for rank r, beside it.
@@ -48,6 +48,7 @@ std::vector<std::filesystem::path> RankFiles(const std::filesystem::path& path);
 // as they were written, and removes those files (also any without a header line), so that
 // one file holds the run and only ever grew. Each file's header must be `header`
 // (RequireHeader, with `remedy`).
-void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header, const std::string& remedy);
+void MergeRankFiles(const std::filesystem::path& path, const nlohmann::json& header,
+                    const std::string& remedy);
 
 }  // namespace unjam

@@ -11,8 +11,8 @@
 namespace unjam {
 
 struct ParticleField {
-  std::vector<Vec2> displacement;     // per particle (may be empty: written as zero)
-  std::vector<ContactForce> forces;   // contact forces to draw (may be empty)
+  std::vector<Vec2> displacement;          // per particle (may be empty: written as zero)
+  std::vector<ContactForce> forces;        // contact forces to draw (may be empty)
   std::vector<ContactForce> force_change;  // per contact ΔF (same keys; may be empty)
 };
 
@@ -26,8 +26,9 @@ struct ParticleField {
 // Written atomically (WriteFileAtomically): no partial file on failure.
 void WriteVtk(const Scene& scene, const ParticleField& field, const std::filesystem::path& path);
 
-// Extended XYZ: line 1 the particle count; line 2
-// `Lattice="Lx 0 0 0 Ly 0 0 0 1" Properties=id:I:1:pos:R:3:radius:R:1:fixed:I:1:displacement:R:3 pbc="T T F"`
+// Extended XYZ: line 1 the particle count; line 2 the one-line header
+//   Lattice="Lx 0 0 0 Ly 0 0 0 1" Properties=id:I:1:pos:R:3:radius:R:1:fixed:I:1:displacement:R:3
+//   pbc="T T F"
 // (pbc from the cell's periodicity); then one row per disk. Written atomically.
 void WriteExtendedXyz(const Scene& scene, const ParticleField& field,
                       const std::filesystem::path& path);

@@ -14,6 +14,7 @@ inline constexpr std::size_t kMaxInputBytes = std::size_t{1} << 30;  // 1 GiB
 
 // Throws InputError (packing_file.hpp) naming the file if it cannot be opened or read, or
 // if it holds more than max_bytes.
-std::string ReadInputText(const std::filesystem::path& path, std::size_t max_bytes = kMaxInputBytes);
+std::string ReadInputText(const std::filesystem::path& path,
+                          std::size_t max_bytes = kMaxInputBytes);
 
 }  // namespace unjam

@@ -20,7 +20,7 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
 struct RecordsFile {
   nlohmann::json header;
   std::vector<std::pair<int, ReducedResponse>> records;
-  std::uintmax_t valid_bytes = 0;   // length of the complete lines (a torn last line is not)
+  std::uintmax_t valid_bytes = 0;  // length of the complete lines (a torn last line is not)
 };
 // Reads a records file; a last line cut short by an interruption is ignored (and reported
 // by valid_bytes), any other bad line is an InputError naming the file and line.

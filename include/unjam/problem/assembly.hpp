@@ -12,7 +12,7 @@
 namespace unjam {
 
 struct AssemblyOptions {
-  double dt = 1e-3;               // time step
+  double dt = 1e-3;  // time step
   // Fraction of an existing overlap removed within the step (1 = all of it, so a closed
   // contact ends the step with a non-negative linearised gap).
   double overlap_correction = 1.0;
@@ -24,7 +24,7 @@ struct AssembledProblem {
   ContactProblem problem;
   std::vector<int> body_of_particle;  // −1: no degrees of freedom (fixed or prescribed)
   std::vector<int> particle_of_body;
-  std::vector<int> source_contact;    // problem contact k is contacts[source_contact[k]]
+  std::vector<int> source_contact;  // problem contact k is contacts[source_contact[k]]
   // Contacts left out (both sides without degrees of freedom) whose constraint the known
   // motion violates within the step: no impulse can change it (e.g. a prescribed particle
   // pushed into a fixed one penetrates it, whatever is solved).

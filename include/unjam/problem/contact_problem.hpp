@@ -35,14 +35,14 @@ namespace unjam {
 enum class ConstraintKind { kUnilateral, kBilateral };
 
 struct ProblemContact {
-  int body_i = -1;          // body index, or −1: no degrees of freedom
+  int body_i = -1;  // body index, or −1: no degrees of freedom
   int body_j = -1;
   Vec2 normal = Vec2(1.0, 0.0);
-  double arm_i = 0.0;       // lever arm of the tangential impulse on i (R_i), rotation only
+  double arm_i = 0.0;  // lever arm of the tangential impulse on i (R_i), rotation only
   double arm_j = 0.0;
-  double cell_arm = 0.0;    // c_k = l_k·n, coupling to the cell strain rate λ
+  double cell_arm = 0.0;         // c_k = l_k·n, coupling to the cell strain rate λ
   double target_velocity = 0.0;  // the law is posed on ũ_n = u_n − target_velocity
-  Vec2 bias = Vec2::Zero(); // (normal, tangential) relative velocity from sides without dofs
+  Vec2 bias = Vec2::Zero();      // (normal, tangential) relative velocity from sides without dofs
   double mu = 0.0;
   ConstraintKind kind = ConstraintKind::kUnilateral;
   // Height of the contact point against gravity (−ĝ·x), 0 in a scene without gravity.
@@ -52,17 +52,17 @@ struct ProblemContact {
 
 // The cell strain rate λ as a degree of freedom: λ = free_rate + inv_mass Σ_k c_k r_n,k.
 struct CellDof {
-  double inv_mass = 0.0;    // 1 / (M_λ D V)
-  double free_rate = 0.0;   // λ after the external pressure and kinetic terms, before contacts
+  double inv_mass = 0.0;   // 1 / (M_λ D V)
+  double free_rate = 0.0;  // λ after the external pressure and kinetic terms, before contacts
 };
 
 struct ContactProblem {
   double dt = 0.0;
-  bool frictional = false;  // two unknowns per contact and rotations; else one unknown
-  std::vector<double> inv_mass;       // per body
-  std::vector<double> inv_inertia;    // per body (frictional problems only)
-  std::vector<Vec2> free_velocity;    // per body
-  std::vector<double> free_spin;      // per body (frictional problems only)
+  bool frictional = false;          // two unknowns per contact and rotations; else one unknown
+  std::vector<double> inv_mass;     // per body
+  std::vector<double> inv_inertia;  // per body (frictional problems only)
+  std::vector<Vec2> free_velocity;  // per body
+  std::vector<double> free_spin;    // per body (frictional problems only)
   std::optional<CellDof> cell;
   std::vector<ProblemContact> contacts;
   // Optional warm start: impulses of the previous step, UnknownsPerContact() per contact.
@@ -86,8 +86,8 @@ struct ContactProblem {
 // Sparse views of the same data, for backends that want matrices.
 // H: NumUnknowns() × NumDofs(); rows per contact (n[, t]).
 Eigen::SparseMatrix<double> AssembleJacobian(const ContactProblem& problem);
-Eigen::VectorXd InverseMassDiagonal(const ContactProblem& problem);   // size NumDofs()
-Eigen::VectorXd FreeVelocityVector(const ContactProblem& problem);    // size NumDofs()
+Eigen::VectorXd InverseMassDiagonal(const ContactProblem& problem);  // size NumDofs()
+Eigen::VectorXd FreeVelocityVector(const ContactProblem& problem);   // size NumDofs()
 // Offset so that the posed velocity is ũ = H v + offset (bias and −target_velocity).
 Eigen::VectorXd VelocityOffset(const ContactProblem& problem);
 // Delassus operator W = H M⁻¹ Hᵀ and q, so that ũ = W r + q (the Siconos form).
@@ -97,6 +97,7 @@ Eigen::VectorXd DelassusOffset(const ContactProblem& problem);
 // End-of-step generalised velocity v = v_free + M⁻¹ Hᵀ r.
 Eigen::VectorXd EndVelocity(const ContactProblem& problem, const Eigen::VectorXd& impulses);
 // Posed contact velocities ũ (normal entry shifted by the target), size NumUnknowns().
-Eigen::VectorXd PosedContactVelocity(const ContactProblem& problem, const Eigen::VectorXd& impulses);
+Eigen::VectorXd PosedContactVelocity(const ContactProblem& problem,
+                                     const Eigen::VectorXd& impulses);
 
 }  // namespace unjam

@@ -28,9 +28,9 @@ struct ContactLaw {
 };
 
 struct DelassusProblem {
-  Eigen::SparseMatrix<double> w;     // NumUnknowns() × NumUnknowns()
-  Eigen::VectorXd q;                 // NumUnknowns()
-  std::vector<ContactLaw> laws;      // one per contact
+  Eigen::SparseMatrix<double> w;  // NumUnknowns() × NumUnknowns()
+  Eigen::VectorXd q;              // NumUnknowns()
+  std::vector<ContactLaw> laws;   // one per contact
   // Optional warm start: (r_n, r_t) per contact, or empty.
   Eigen::VectorXd initial_guess;
 

@@ -31,10 +31,10 @@
 namespace unjam {
 
 struct InertiaBound {
-  double ratio = 0.0;    // t*: a lower bound of the step's largest inertial force over its scale
-  bool decided = true;   // false: CLP stopped without an optimum (ratio then stays 0)
-  std::string message;   // CLP's status when not decided
-  int iterations = 0;    // simplex iterations
+  double ratio = 0.0;   // t*: a lower bound of the step's largest inertial force over its scale
+  bool decided = true;  // false: CLP stopped without an optimum (ratio then stays 0)
+  std::string message;  // CLP's status when not decided
+  int iterations = 0;   // simplex iterations
 };
 
 // Every free velocity zero (no gravity, no pressure bath, at rest): t* = 0, no LP needed.

@@ -24,8 +24,8 @@ namespace unjam {
 
 struct KinematicAdmissibility {
   bool admissible = true;
-  bool decided = true;      // false: CLP stopped without a verdict (then `admissible` stays true)
-  std::string message;      // CLP's status when not admissible or not decided
+  bool decided = true;  // false: CLP stopped without a verdict (then `admissible` stays true)
+  std::string message;  // CLP's status when not admissible or not decided
 };
 
 KinematicAdmissibility CheckKinematicAdmissibility(const ContactProblem& problem);

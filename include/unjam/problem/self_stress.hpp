@@ -17,8 +17,8 @@ namespace unjam {
 struct SelfStressBasis {
   // Orthonormal columns spanning ker Hᵀ: H.rows() × dimension.
   Eigen::MatrixXd basis;
-  int rank = 0;              // of H, as SuiteSparseQR found it
-  double tolerance = 0.0;    // its rank tolerance: 1e-10 × the largest column norm of H
+  int rank = 0;            // of H, as SuiteSparseQR found it
+  double tolerance = 0.0;  // its rank tolerance: 1e-10 × the largest column norm of H
   // max_j ‖Hᵀ s_j‖ / ‖H‖ (‖H‖ the largest column norm): how well the columns are self-stresses.
   double max_violation = 0.0;
   int dimension() const { return static_cast<int>(basis.cols()); }
@@ -35,7 +35,8 @@ SelfStressBasis ComputeSelfStresses(const Eigen::SparseMatrix<double>& h);
 // `basis` extended by the least-norm impulses z with Hᵀz = e_d for each released column d,
 // orthonormalised (range(H) is orthogonal to ker Hᵀ, so the old columns stay as they are).
 // A released column that H does not reach (a floppy degree of freedom) adds nothing.
-Eigen::MatrixXd ExtendSelfStresses(const Eigen::MatrixXd& basis, const Eigen::SparseMatrix<double>& h,
+Eigen::MatrixXd ExtendSelfStresses(const Eigen::MatrixXd& basis,
+                                   const Eigen::SparseMatrix<double>& h,
                                    const std::vector<int>& released_columns);
 
 }  // namespace unjam

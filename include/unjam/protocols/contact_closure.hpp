@@ -24,22 +24,23 @@ namespace unjam {
 
 struct ContactKey {
   int i = -1;
-  int j = -1;                         // particle, or a wall (IsWallIndex)
+  int j = -1;  // particle, or a wall (IsWallIndex)
   std::array<int, 2> image = {0, 0};
 };
 
 struct ClosureOptions {
   int iterations = 4;
-  double tolerance = 1e-13;           // |gap| reached, length units
+  double tolerance = 1e-13;  // |gap| reached, length units
 };
 
 struct ClosureReport {
-  bool closed = false;                // every chosen gap within the tolerance
-  double max_gap = 0.0;               // largest |gap| of the chosen contacts afterwards
-  double max_displacement = 0.0;      // largest particle displacement (including the affine part)
+  bool closed = false;            // every chosen gap within the tolerance
+  double max_gap = 0.0;           // largest |gap| of the chosen contacts afterwards
+  double max_displacement = 0.0;  // largest particle displacement (including the affine part)
   int iterations = 0;
 };
 
-ClosureReport CloseContacts(Scene& scene, const std::vector<ContactKey>& contacts, const ClosureOptions& options = {});
+ClosureReport CloseContacts(Scene& scene, const std::vector<ContactKey>& contacts,
+                            const ClosureOptions& options = {});
 
 }  // namespace unjam

@@ -37,8 +37,8 @@ const char* ToString(CellCondition condition);
 CellCondition CellConditionFromString(const std::string& name);  // throws std::invalid_argument
 
 struct PerturbationOptions {
-  double gap = 1e-9;                    // ξ, length units
-  double dt = 1.0;                      // the quasi-static step
+  double gap = 1e-9;  // ξ, length units
+  double dt = 1.0;    // the quasi-static step
   CellCondition cell = CellCondition::kFixedPressure;
   // Contacts are those of the static state with gap < max(margin, 1000 ξ) (a response
   // of size ξ, amplified by lever arms, may close them); gaps below closed_gap_tolerance
@@ -56,10 +56,10 @@ struct PerturbationOptions {
   // backend name. On the μ = 10 packing lemke's paths end on rays on openings
   // that ipopt's De Saxcé fixed point resolves (docs/perturbations.md, "Fallback").
   std::string fallback = "auto";
-  SolverOptions solver;                 // its tolerance is replaced, see SolverToleranceFor
+  SolverOptions solver;  // its tolerance is replaced, see SolverToleranceFor
   // Wanted accuracy of the displacements, as a fraction of ξ (see SolverToleranceFor).
   double response_tolerance = 1e-2;
-  double solver_tolerance = 0.0;        // > 0: use this solver tolerance instead
+  double solver_tolerance = 0.0;  // > 0: use this solver tolerance instead
   // The response counts as quasi-static when the largest inertial force m|d|/Δt² is below
   // this fraction of the mean contact force.
   double max_inertia_ratio = 1e-6;
@@ -121,33 +121,33 @@ std::string PerturbationFallback(const PerturbationOptions& options, const Scene
 // One perturbation's target: a contact (by key) or a particle and a shift direction.
 struct PerturbationTarget {
   enum class Kind { kContactOpening, kParticleShift } kind = Kind::kContactOpening;
-  int i = -1, j = -1;                   // contact: its key; shift: i = the particle
+  int i = -1, j = -1;  // contact: its key; shift: i = the particle
   std::array<int, 2> image = {0, 0};
-  Vec2 direction = Vec2(0.0, -1.0);     // shift direction ŝ (unit)
+  Vec2 direction = Vec2(0.0, -1.0);  // shift direction ŝ (unit)
 };
 
 struct ContactForceChange {
   int i = -1, j = -1;
   std::array<int, 2> image = {0, 0};
-  Vec2 point = Vec2::Zero();            // contact point (periodic: as seen from i)
-  Vec2 normal = Vec2(1.0, 0.0);         // from i to j
-  Vec2 branch = Vec2::Zero();           // centre-to-centre vector l (periodic image included)
+  Vec2 point = Vec2::Zero();     // contact point (periodic: as seen from i)
+  Vec2 normal = Vec2(1.0, 0.0);  // from i to j
+  Vec2 branch = Vec2::Zero();    // centre-to-centre vector l (periodic image included)
   double normal_before = 0.0, normal_after = 0.0;
   double tangential_before = 0.0, tangential_after = 0.0;
 };
 
 struct PerturbationResult {
   PerturbationTarget target;
-  Vec2 origin = Vec2::Zero();           // the contact point, or the shifted particle's centre
-  Vec2 axis = Vec2(1.0, 0.0);           // the contact normal, or the vertical (0, 1)
+  Vec2 origin = Vec2::Zero();  // the contact point, or the shifted particle's centre
+  Vec2 axis = Vec2(1.0, 0.0);  // the contact normal, or the vertical (0, 1)
   double f_crit = 0.0;
-  double f_reference = 0.0;             // F_cont (opening) or F_y, the effective weight (shift)
-  std::vector<Vec2> displacement;       // per particle (non-affine part under a pressure bath)
-  std::vector<double> rotation;         // per particle
+  double f_reference = 0.0;        // F_cont (opening) or F_y, the effective weight (shift)
+  std::vector<Vec2> displacement;  // per particle (non-affine part under a pressure bath)
+  std::vector<double> rotation;    // per particle
   std::vector<ContactForceChange> force_changes;  // every contact of the union of both states
-  double penetration_depth = 0.0;       // δ = Σ|d_i| |r_i·n| / Σ|d_i|
-  double cell_strain = 0.0;             // λ = ΔL/L (fixed pressure)
-  double pressure_change = 0.0;         // P_after − P_before from the virial (periodic cells)
+  double penetration_depth = 0.0;                 // δ = Σ|d_i| |r_i·n| / Σ|d_i|
+  double cell_strain = 0.0;                       // λ = ΔL/L (fixed pressure)
+  double pressure_change = 0.0;  // P_after − P_before from the virial (periodic cells)
   // The largest inertial force over its scale: max_i m_i |d_i| / Δt² over the mean contact
   // force F̄, I_i |θ_i| / Δt² over F̄ R_i, and the cell's M_λ D V |ε| / Δt² over D V P_ext.
   double inertia_ratio = 0.0;
@@ -156,9 +156,9 @@ struct PerturbationResult {
   // opening has F_crit = F_cont + inertial_force: O(ξ), however small each grain's inertial
   // force, because the opened mechanism moves every grain.
   double inertial_force = 0.0;
-  double equilibrium_residual = 0.0;    // of the perturbed forces, free particles
+  double equilibrium_residual = 0.0;  // of the perturbed forces, free particles
   SolveReport solve;
-  bool quasi_static = false;            // inertia_ratio ≤ max_inertia_ratio
+  bool quasi_static = false;  // inertia_ratio ≤ max_inertia_ratio
   // The solve resolved the response to response_tolerance of its own size: its residual,
   // measured against the static force scale (not the perturbed one, which a runaway
   // solution inflates), is below the tolerance times max(1, largest |d_i| / ξ).
@@ -193,9 +193,9 @@ struct PerturbationBase {
   std::vector<Contact> contacts;        // with gap < margin
   std::vector<Eigen::Vector2d> forces;  // stored static forces per contact (0 if none)
   double mean_contact_force = 0.0;
-  double pressure = 0.0;                // virial pressure of the static forces (periodic)
+  double pressure = 0.0;  // virial pressure of the static forces (periodic)
   double mean_radius = 0.0;
-  double mean_mass = 0.0;               // of the free particles
+  double mean_mass = 0.0;  // of the free particles
   // With dynamic_precheck: the inertia LP of the unperturbed step, which every contact
   // opening continues (problem/inertia_bound.hpp, HeldContactInertia); solved by the first
   // opening that needs it, shared by all.
@@ -212,14 +212,16 @@ struct PerturbationBase {
 double SolverToleranceFor(const PerturbationOptions& options, const PerturbationBase& base);
 
 // Throws std::invalid_argument if the scene stores no forces.
-PerturbationBase PreparePerturbations(const Scene& static_scene, const PerturbationOptions& options);
+PerturbationBase PreparePerturbations(const Scene& static_scene,
+                                      const PerturbationOptions& options);
 
 PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarget& target,
                            const PerturbationOptions& options);
 
 // The contact problem Perturb solves for this target (warm-started from the static
 // forces), for handing to backends directly (unjam compare).
-ContactProblem PosePerturbationProblem(const PerturbationBase& base, const PerturbationTarget& target,
+ContactProblem PosePerturbationProblem(const PerturbationBase& base,
+                                       const PerturbationTarget& target,
                                        const PerturbationOptions& options);
 
 // Targets. Force-carrying contacts between two particles (fixed ones included), in the

@@ -17,7 +17,7 @@ struct GasOptions {
   int particles = 500;
   double friction = 0.5;
   double pressure = 1.0;
-  double cell_mass = 100.0;                // M_λ, density × length²
+  double cell_mass = 100.0;  // M_λ, density × length²
   double initial_packing_fraction = 0.3;
   std::uint64_t seed = 1;
 };

@@ -46,21 +46,21 @@
 namespace unjam {
 
 struct RelaxOptions {
-  double step_tolerance = 1e-4;          // per dynamics step
-  int step_max_iterations = 500;         // sweeps per dynamics step
-  double rest_speed = 1e-2;              // mean speed, × V₀
-  int window = 20;                       // steps
+  double step_tolerance = 1e-4;   // per dynamics step
+  int step_max_iterations = 500;  // sweeps per dynamics step
+  double rest_speed = 1e-2;       // mean speed, × V₀
+  int window = 20;                // steps
   double retry_fraction = 0.1;
-  double closure_gap = 1e-6;             // contacts this close may carry force and be closed
-  double closed_gap_tolerance = 1e-9;    // as the static solve
+  double closure_gap = 1e-6;           // contacts this close may carry force and be closed
+  double closed_gap_tolerance = 1e-9;  // as the static solve
   int max_steps = 1000000;
-  std::string static_backend = "nsgs";    // of the static check (the steps use the simulation's)
+  std::string static_backend = "nsgs";  // of the static check (the steps use the simulation's)
   double static_tolerance = 1e-10;
   SweepOrder sweep_order = SweepOrder::kRandom;  // of the static solves (NSGS)
-  int threads = 1;                               // of the static solves (NSGS, SolverOptions::threads)
+  int threads = 1;  // of the static solves (NSGS, SolverOptions::threads)
   int static_max_iterations = 100000;
-  int refine_max_iterations = 0;         // 3a's refining static solve; 0 = none
-  bool linear_program = false;          // 3a: if the projections fail, the LP decides (slow)
+  int refine_max_iterations = 0;  // 3a's refining static solve; 0 = none
+  bool linear_program = false;    // 3a: if the projections fail, the LP decides (slow)
   double equilibrium_tolerance = 1e-8;
   double pressure_tolerance = 1e-8;
   // Called every `progress_interval` steps, 0 = never.
@@ -78,22 +78,23 @@ struct RelaxOptions {
 struct RelaxReport {
   bool jammed = false;
   int steps = 0;
-  int static_checks = 0;                // certificates attempted
-  int unconverged_steps = 0;            // steps whose solve hit its iteration limit
-  AdmissibleForces certificate;         // the last certificate
-  std::string check_message;            // why the last attempt failed, if it did
-  double closure_displacement = 0.0;    // largest displacement of the last contact closure
-  StaticSolution final_check;           // static solve of the certified state (if any)
-  int refined_checks = 0;               // certificates that refined the step's forces (3a)
-  double pressure_mismatch = 0.0;       // |P_in/P_ext − 1| of the final check (pressure bath)
+  int static_checks = 0;              // certificates attempted
+  int unconverged_steps = 0;          // steps whose solve hit its iteration limit
+  AdmissibleForces certificate;       // the last certificate
+  std::string check_message;          // why the last attempt failed, if it did
+  double closure_displacement = 0.0;  // largest displacement of the last contact closure
+  StaticSolution final_check;         // static solve of the certified state (if any)
+  int refined_checks = 0;             // certificates that refined the step's forces (3a)
+  double pressure_mismatch = 0.0;     // |P_in/P_ext − 1| of the final check (pressure bath)
   // The loop's own state, so that a run can resume from a checkpoint.
-  int calm_steps = 0;                   // consecutive steps below the rest speed
-  int next_attempt = 0;                 // no certificate before this step
+  int calm_steps = 0;    // consecutive steps below the rest speed
+  int next_attempt = 0;  // no certificate before this step
 };
 
 // Runs from `resume` (a fresh report to start, or one saved by on_checkpoint together with
 // the simulation's state).
-RelaxReport RelaxToStatic(Simulation& simulation, const RelaxOptions& options, RelaxReport resume = {});
+RelaxReport RelaxToStatic(Simulation& simulation, const RelaxOptions& options,
+                          RelaxReport resume = {});
 
 // V₀ of a scene (see above); 1 without gravity and pressure.
 double VelocityScale(const Scene& scene);
@@ -102,20 +103,21 @@ double VelocityScale(const Scene& scene);
 // `reference`, of at most `refine_max_iterations` NSGS sweeps, run in chunks of
 // kRefineChunk. A state that is not static has a particle that the load moves in a step
 // from rest; the solve converges to that motion, so the fastest speed stays put from chunk
-// to chunk, where a static state's falls with the residual. On the 1600-disk piles
-// (2026-11-25) the failed certificates' states kept 0.027–2.7 √(gR) to within 2 % from
-// one chunk to the next; the passing ones fell by a third or more per chunk, from 2e-2 at
-// most (μ = 1) and 1.2e-3 (μ = 0.1). So the refinement stops after a chunk whose fastest
-// particle moves faster than 10 × `rest_speed`·V₀ and at least 0.9 times as fast as after
-// the chunk before (`still_moving`): the certificate fails as it would have, at a fifth of
-// the cost. Other backends get the whole budget in one solve.
+// to chunk, where a static state's falls with the residual. On the 1600-disk piles the
+// failed certificates' states kept 0.027–2.7 √(gR) to within 2 % from one chunk to the
+// next; the passing ones fell by a third or more per chunk, from 2e-2 at most (μ = 1) and
+// 1.2e-3 (μ = 0.1). So the refinement stops after a chunk whose fastest particle moves
+// faster than 10 × `rest_speed`·V₀ and at least 0.9 times as fast as after the chunk before
+// (`still_moving`): the certificate fails as it would have, at a fifth of the cost. Other
+// backends get the whole budget in one solve.
 inline constexpr int kRefineChunk = 3000;
 struct Refinement {
   std::vector<ContactForce> forces;
   int sweeps = 0;
   bool still_moving = false;
 };
-Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce>& reference, const RelaxOptions& options);
+Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce>& reference,
+                              const RelaxOptions& options);
 
 // The packing protocols' time step, in units of T₀ = R_max / V₀ (1 for the defaults:
 // R_max = 1, density 1, P_ext = 1 or g = 1). Measured on 1600-disk piles and cells of

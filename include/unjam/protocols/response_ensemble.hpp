@@ -24,12 +24,12 @@
 namespace unjam {
 
 struct EnsembleOptions {
-  int bins_per_decade = 6;              // radial profiles
-  double profile_min = 1.0;             // first bin edge, length units
-  double fit_min = 2.0;                 // power-law fit range of d(r); fit_max ≤ 0 = half
-  double fit_max = 0.0;                 //   the frame window's half-width
-  double field_box = 1.0;               // displacement field grid (contact frame)
-  double stress_box = 2.0;              // coarse-grained stress boxes (the side 2)
+  int bins_per_decade = 6;   // radial profiles
+  double profile_min = 1.0;  // first bin edge, length units
+  double fit_min = 2.0;      // power-law fit range of d(r); fit_max ≤ 0 = half
+  double fit_max = 0.0;      //   the frame window's half-width
+  double field_box = 1.0;    // displacement field grid (contact frame)
+  double stress_box = 2.0;   // coarse-grained stress boxes (the side 2)
   int histogram_bins = 20;
   // A bottom (upward) shift needing less force than this fraction of the mean contact
   // force is a rattler's: excluded from the averages.
@@ -38,14 +38,14 @@ struct EnsembleOptions {
 
 // Everything that is the same for every perturbation of one base.
 struct ResponseLayout {
-  double gap = 0.0;                     // ξ
-  double window = 0.0;                  // half-width of the contact-frame window
+  double gap = 0.0;     // ξ
+  double window = 0.0;  // half-width of the contact-frame window
   double profile_min = 1.0, profile_max = 1.0;
   int bins_per_decade = 6;
-  GridSpec field;                       // displacement grid, contact frame
-  GridSpec stress;                      // stress grid, contact frame
+  GridSpec field;   // displacement grid, contact frame
+  GridSpec stress;  // stress grid, contact frame
   double mean_contact_force = 0.0;
-  double f0 = 0.0;                      // 2 R_avg P_ext (pressure bath), else 0
+  double f0 = 0.0;  // 2 R_avg P_ext (pressure bath), else 0
 };
 ResponseLayout MakeLayout(const PerturbationBase& base, const EnsembleOptions& options, double gap);
 
@@ -54,14 +54,15 @@ struct ReducedResponse {
   Vec2 origin = Vec2::Zero(), axis = Vec2(1.0, 0.0);
   double f_crit = 0.0, f_reference = 0.0, penetration_depth = 0.0;
   double cell_strain = 0.0, pressure_change = 0.0;
-  double inertia_ratio = 0.0, inertial_force = 0.0, equilibrium_residual = 0.0, residual = 0.0, seconds = 0.0;
-  double fcrit_10xi = std::numeric_limits<double>::quiet_NaN();        // unless checked (check_linearity)
+  double inertia_ratio = 0.0, inertial_force = 0.0, equilibrium_residual = 0.0, residual = 0.0,
+         seconds = 0.0;
+  double fcrit_10xi = std::numeric_limits<double>::quiet_NaN();  // unless checked (check_linearity)
   double linearity_misfit = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;
-  std::string status;                   // "ok", "not-converged", "dynamic", "nonlinear", "blocked"
-  std::string message;                  // the solver's account of its run (why it stopped)
-  std::string backend;                  // the backend whose answer this is (the fallback's, after one)
-  bool rattler = false;                 // upward shift that needed no force
+  std::string status;    // "ok", "not-converged", "dynamic", "nonlinear", "blocked"
+  std::string message;   // the solver's account of its run (why it stopped)
+  std::string backend;   // the backend whose answer this is (the fallback's, after one)
+  bool rattler = false;  // upward shift that needed no force
   bool Used() const { return status == "ok" && !rattler; }
   std::vector<double> displacement_profile;  // mean |d|/ξ per radial bin (NaN: empty bin)
   std::vector<double> force_profile;         // mean |Δf_n| per radial bin of contact points
@@ -74,28 +75,29 @@ ReducedResponse Reduce(const PerturbationBase& base, const PerturbationResult& r
 
 struct FieldBox {
   Vec2 center = Vec2::Zero();
-  Vec2 mean = Vec2::Zero();             // mean d/ξ over perturbations and particles
+  Vec2 mean = Vec2::Zero();  // mean d/ξ over perturbations and particles
   int count = 0;
 };
 struct StressBox {
   Vec2 center = Vec2::Zero();
   Eigen::Matrix2d mean = Eigen::Matrix2d::Zero();  // ⟨Δσ⟩ over perturbations
-  double pressure_change = 0.0;         // ½ tr ⟨Δσ⟩
-  double max_shear = 0.0;               // τ_max of ⟨Δσ⟩
-  double shear_angle = 0.0;             // arcsin(τ_max / |ΔP|), radians; NaN if τ_max > |ΔP|
+  double pressure_change = 0.0;                    // ½ tr ⟨Δσ⟩
+  double max_shear = 0.0;                          // τ_max of ⟨Δσ⟩
+  double shear_angle = 0.0;  // arcsin(τ_max / |ΔP|), radians; NaN if τ_max > |ΔP|
 };
 
 struct EnsembleSummary {
-  int perturbations = 0, used = 0, rattlers = 0, not_converged = 0, dynamic = 0, nonlinear = 0, blocked = 0;
+  int perturbations = 0, used = 0, rattlers = 0, not_converged = 0, dynamic = 0, nonlinear = 0,
+      blocked = 0;
   MeanAndError f_crit, f_reference, penetration_depth;
-  double ratio = 0.0, ratio_error = 0.0;     // ⟨F_crit⟩ / ⟨F_reference⟩
+  double ratio = 0.0, ratio_error = 0.0;  // ⟨F_crit⟩ / ⟨F_reference⟩
   double f0 = 0.0;
   double corr_fcrit_delta = 0.0, corr_freference_delta = 0.0, corr_fcrit_freference = 0.0;
   std::vector<LogBin> displacement_profile;  // ⟨|d|⟩/ξ vs r, error over perturbations
   PowerLawFit decay;                         // d ∝ r^(−α)
   std::vector<LogBin> force_profile;         // ⟨|Δf_n|⟩ vs r
   Histogram fcrit_raw, fcrit_over_f0, fcrit_over_mean;
-  ExponentialTailFit fcrit_tail;             // of F_crit/⟨F_crit⟩ above 1
+  ExponentialTailFit fcrit_tail;  // of F_crit/⟨F_crit⟩ above 1
   std::vector<FieldBox> field;
   std::vector<StressBox> stress;
 };

@@ -25,10 +25,10 @@ struct StabilityCase {
 
 struct StabilityOptions {
   std::vector<std::string> backends;
-  SolverOptions solver;             // its tolerance is the one every solve must reach
-  int steps = 100;                  // Moreau–Jean steps of a scene at rest
+  SolverOptions solver;  // its tolerance is the one every solve must reach
+  int steps = 100;       // Moreau–Jean steps of a scene at rest
   double dt = 1e-3;
-  double max_step_seconds = 60.0;   // the steps of one (case, backend) stop after this long
+  double max_step_seconds = 60.0;  // the steps of one (case, backend) stop after this long
   // Overlap growth and energy created at rest above these count as failures: overlap in
   // units of the largest radius, energy relative to Σ m |g| R + P_ext V.
   double overlap_tolerance = 1e-9;
@@ -48,20 +48,20 @@ const char* ToString(StabilityVerdict verdict);
 
 struct StabilityRow {
   std::string name, backend;
-  int contacts = 0;                 // detected (a scene's) or stored
-  SolveReport report;               // the static solve (residual recomputed)
-  double siconos_error = 0.0;       // NaN where the problem has no Siconos form
-  double equilibrium = 0.0;         // a scene's EquilibriumReport::residual; NaN for a .dat
+  int contacts = 0;            // detected (a scene's) or stored
+  SolveReport report;          // the static solve (residual recomputed)
+  double siconos_error = 0.0;  // NaN where the problem has no Siconos form
+  double equilibrium = 0.0;    // a scene's EquilibriumReport::residual; NaN for a .dat
   bool finite = true;
   bool reproducible = true;
-  bool at_rest = false;             // a scene with no prescribed motion or gap: stepped
-  int steps = 0;                    // steps done (≤ options.steps: the time budget)
-  bool steps_converged = true;      // every step's solve converged
-  double max_overlap = 0.0;         // largest overlap seen over the steps, / largest radius
-  double overlap_growth = 0.0;      // that minus the initial overlap
-  double energy_change = 0.0;       // largest E(t) − E(0) over the steps, relative
+  bool at_rest = false;         // a scene with no prescribed motion or gap: stepped
+  int steps = 0;                // steps done (≤ options.steps: the time budget)
+  bool steps_converged = true;  // every step's solve converged
+  double max_overlap = 0.0;     // largest overlap seen over the steps, / largest radius
+  double overlap_growth = 0.0;  // that minus the initial overlap
+  double energy_change = 0.0;   // largest E(t) − E(0) over the steps, relative
   StabilityVerdict verdict = StabilityVerdict::kSolved;
-  std::string message;              // why kFailed or kReported
+  std::string message;  // why kFailed or kReported
 };
 
 // One row per backend, in options.backends order. Throws std::invalid_argument for an

@@ -24,8 +24,8 @@ namespace unjam {
 
 struct StaticSolveOptions {
   double dt = 1.0;
-  double closed_gap_tolerance = 1e-9;   // length units
-  double margin = 1e-6;                 // contacts detected up to this gap
+  double closed_gap_tolerance = 1e-9;  // length units
+  double margin = 1e-6;                // contacts detected up to this gap
   std::string backend = "nsgs";
   SolverOptions solver;
   // After the backend: replace its answer by the solution with the same motion pattern
@@ -43,7 +43,7 @@ struct StaticSolution {
   std::vector<std::uint8_t> basis;
   SolveReport report;
   EquilibriumReport equilibrium;
-  double max_speed = 0.0;               // largest end-of-step particle speed (0 if static)
+  double max_speed = 0.0;  // largest end-of-step particle speed (0 if static)
   // End-of-step motion over the step, Δt·v and Δt·ω per particle (the known motion for
   // prescribed particles, zero for fixed ones), and the cell strain Δt·λ (0 without a
   // pressure bath).
@@ -65,11 +65,13 @@ struct StaticProblem {
 StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& options);
 // Solves a problem PoseStaticProblem(scene, options) has posed, for a caller that has
 // looked at it first (a perturbation checks its kinematics), without posing it again.
-StaticSolution SolveStatic(const Scene& scene, StaticProblem posed, const StaticSolveOptions& options);
+StaticSolution SolveStatic(const Scene& scene, StaticProblem posed,
+                           const StaticSolveOptions& options);
 
 // The solution that `result` (impulses of posed's problem, from any backend or method) makes:
 // forces per contact, the motion over the step, the equilibrium check.
-StaticSolution SolutionOf(const Scene& scene, StaticProblem posed, const SolveResult& result, double dt);
+StaticSolution SolutionOf(const Scene& scene, StaticProblem posed, const SolveResult& result,
+                          double dt);
 
 // The forces as the scene stores them (only force-carrying contacts), a normal force below
 // zero (round-off of a backend) stored as 0.

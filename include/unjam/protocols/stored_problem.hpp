@@ -14,7 +14,7 @@
 namespace unjam {
 
 struct StoredSolution {
-  Eigen::VectorXd impulses;    // (r_n, r_t) per contact
+  Eigen::VectorXd impulses;  // (r_n, r_t) per contact
   // The backend's report, with `residual` recomputed from the impulses; a backend that
   // claims convergence the recomputed residual does not confirm is reported as a
   // numerical failure.

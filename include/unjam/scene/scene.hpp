@@ -27,12 +27,12 @@ inline Vec2 Perp(const Vec2& n) { return Vec2(-n.y(), n.x()); }
 
 struct Particle {
   Vec2 position = Vec2::Zero();
-  double angle = 0.0;                 // orientation, radians
+  double angle = 0.0;  // orientation, radians
   Vec2 velocity = Vec2::Zero();
-  double spin = 0.0;                  // angular velocity, radians per unit time
+  double spin = 0.0;  // angular velocity, radians per unit time
   double radius = 1.0;
   double density = 1.0;
-  bool fixed = false;                 // a fixed disk never moves (rough bed, obstacle)
+  bool fixed = false;  // a fixed disk never moves (rough bed, obstacle)
 
   double Mass() const { return density * std::numbers::pi * radius * radius; }
   double Inertia() const { return 0.5 * Mass() * radius * radius; }
@@ -46,7 +46,7 @@ inline bool PeriodicY(Periodicity p) { return p == Periodicity::kXY; }
 // A straight, fixed, infinite wall: the half-plane (x − point)·normal ≥ 0 is the inside.
 struct Wall {
   Vec2 point = Vec2::Zero();
-  Vec2 normal = Vec2(0.0, 1.0);       // unit, pointing into the domain
+  Vec2 normal = Vec2(0.0, 1.0);  // unit, pointing into the domain
 };
 
 // The simulation cell [0, Lx) × [0, Ly). Along a periodic axis positions are wrapped into
@@ -64,9 +64,9 @@ inline constexpr double kDimension = 2.0;
 // Constant external pressure on a fully periodic cell whose size is a degree of freedom
 // (Andersen-type barostat): M_λ dλ/dt = P_in − P_ext with λ = L̇/L. See docs/method.md.
 struct PressureBath {
-  double pressure = 1.0;              // P_ext
-  double cell_mass = 100.0;           // M_λ, density × length² units
-  double strain_rate = 0.0;           // λ, the cell's state
+  double pressure = 1.0;     // P_ext
+  double cell_mass = 100.0;  // M_λ, density × length² units
+  double strain_rate = 0.0;  // λ, the cell's state
 };
 
 // A particle whose velocity is imposed during the step (infinite mass for the solver).
@@ -86,8 +86,8 @@ struct PrescribedGap {
 };
 
 struct Effects {
-  std::optional<Vec2> gravity;        // acceleration
-  double friction = 0.0;              // Coulomb μ, particle–particle and particle–fixed
+  std::optional<Vec2> gravity;  // acceleration
+  double friction = 0.0;        // Coulomb μ, particle–particle and particle–fixed
   std::optional<PressureBath> pressure_bath;
   std::vector<PrescribedMotion> prescribed_motion;
   std::vector<PrescribedGap> prescribed_gaps;
@@ -111,8 +111,8 @@ struct Scene {
   Effects effects;
   std::vector<Particle> particles;
   std::uint64_t seed = 0;
-  std::string provenance;             // how the scene was made (command line, tool version)
-  std::vector<ContactForce> forces;   // optional: static contact forces of this state
+  std::string provenance;            // how the scene was made (command line, tool version)
+  std::vector<ContactForce> forces;  // optional: static contact forces of this state
 };
 
 // Index encoding of walls on the j side of a contact.

@@ -26,7 +26,7 @@ struct ComparisonProblem {
 struct ComparisonOptions {
   std::vector<std::string> backends;
   std::vector<double> tolerances;
-  SolverOptions solver;             // everything but the tolerance
+  SolverOptions solver;  // everything but the tolerance
   // The reference: this backend at this tolerance (its residual is reported; if it misses
   // the tolerance the best impulses seen over all runs serve instead, and the report says so).
   std::string reference_backend = "newton";
@@ -36,22 +36,22 @@ struct ComparisonOptions {
 struct ComparisonReference {
   Eigen::VectorXd impulses;
   double residual = 0.0;
-  std::string source;               // "newton at 1e-13", or "best run: nsgs at 1e-12"
-  double scale = 0.0;               // mean |r_n| of the reference (force distances divide by it)
+  std::string source;  // "newton at 1e-13", or "best run: nsgs at 1e-12"
+  double scale = 0.0;  // mean |r_n| of the reference (force distances divide by it)
 };
 
 struct ComparisonRun {
   std::string problem, backend;
   double tolerance = 0.0;
-  SolveReport report;               // status, iterations, residual, seconds
-  double force_distance = 0.0;      // max_k |r_k − r_ref,k| / reference scale
+  SolveReport report;           // status, iterations, residual, seconds
+  double force_distance = 0.0;  // max_k |r_k − r_ref,k| / reference scale
 };
 
 // Runs every (problem, backend, tolerance) in that order and calls `on_run` for each run
 // once its problem is done (the force distance needs the final reference); returns the
 // reference of each problem. Throws std::invalid_argument for an unknown backend.
-std::vector<ComparisonReference> CompareBackends(const std::vector<ComparisonProblem>& problems,
-                                                 const ComparisonOptions& options,
-                                                 const std::function<void(const ComparisonRun&)>& on_run);
+std::vector<ComparisonReference> CompareBackends(
+    const std::vector<ComparisonProblem>& problems, const ComparisonOptions& options,
+    const std::function<void(const ComparisonRun&)>& on_run);
 
 }  // namespace unjam

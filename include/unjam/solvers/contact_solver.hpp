@@ -27,7 +27,13 @@ inline constexpr double kNearlyFrictionless = 1e-4;
 
 // kRelaxedModel: the convex relaxation (SolverOptions::convex_relaxation) was solved to the
 // tolerance, but its impulses do not obey the exact Coulomb law to it (docs/backends.md).
-enum class SolveStatus { kConverged, kIterationLimit, kNumericalFailure, kUnsupported, kRelaxedModel };
+enum class SolveStatus {
+  kConverged,
+  kIterationLimit,
+  kNumericalFailure,
+  kUnsupported,
+  kRelaxedModel
+};
 const char* ToString(SolveStatus status);
 
 // kLocal: NSGS renumbers the bodies along the contact graph (Cuthill–McKee) and sorts the
@@ -46,20 +52,20 @@ const char* ToString(SweepOrder order);
 SweepOrder SweepOrderFromString(const std::string& name);  // throws std::invalid_argument
 
 // NLopt algorithms the nlopt backend offers for its bound-constrained convex step.
-enum class NloptAlgorithm { kLbfgs, kCcsaq };   // NLOPT_LD_LBFGS, NLOPT_LD_CCSAQ
+enum class NloptAlgorithm { kLbfgs, kCcsaq };  // NLOPT_LD_LBFGS, NLOPT_LD_CCSAQ
 const char* ToString(NloptAlgorithm algorithm);
 NloptAlgorithm NloptAlgorithmFromString(const std::string& name);  // throws std::invalid_argument
 
 // Options every backend reads; backend-specific ones live beside them, named for it.
 struct SolverOptions {
-  double tolerance = 1e-10;      // on the unjam residual (docs/residual.md)
+  double tolerance = 1e-10;  // on the unjam residual (docs/residual.md)
   // NSGS: sweeps. Newton: sweeps of its NSGS warm-up. ipopt, nlopt: outer iterations of
   // the De Saxcé fixed point (one convex solve each; de_saxce.hpp).
   int max_iterations = 100000;
   // NSGS: over-relaxation factor in (0, 2); 1 = plain Gauss–Seidel.
   double relaxation = 1.0;
   SweepOrder sweep_order = SweepOrder::kRandom;
-  std::uint64_t seed = 1;        // random sweep order
+  std::uint64_t seed = 1;  // random sweep order
   // NSGS: the true residual is evaluated every `check_interval` sweeps (it costs a sweep).
   int check_interval = 10;
   // NSGS on body problems: threads that sweep at once (nsgs_domains.hpp). Each takes one
@@ -117,13 +123,14 @@ struct SolveReport {
   std::string backend;
   std::string message;
   int iterations = 0;
-  double residual = 0.0;         // the unjam residual of the returned impulses
+  double residual = 0.0;  // the unjam residual of the returned impulses
   double seconds = 0.0;
   std::int64_t contact_updates = 0;  // NSGS: local solves performed
 };
 
 struct SolveResult {
-  Eigen::VectorXd impulses;      // UnknownsPerContact() per contact: (r_n[, r_t]); 2 per contact in W form
+  Eigen::VectorXd
+      impulses;  // UnknownsPerContact() per contact: (r_n[, r_t]); 2 per contact in W form
   SolveReport report;
   // Pivoting backends (lemke): per contact, which of its complementarity variables the
   // answer's basis holds (ContactProblem::initial_basis), the basis the path ended on or,

@@ -38,10 +38,10 @@ struct PatternCounts {
 };
 
 struct PatternSolution {
-  bool found = false;            // the LP is feasible and solved: `impulses` solve the step
-  Eigen::VectorXd impulses;      // as ContactProblem lays them out
+  bool found = false;        // the LP is feasible and solved: `impulses` solve the step
+  Eigen::VectorXd impulses;  // as ContactProblem lays them out
   PatternCounts pattern;
-  long long iterations = 0;      // simplex iterations
+  long long iterations = 0;  // simplex iterations
   std::string message;
 };
 

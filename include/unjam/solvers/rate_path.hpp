@@ -46,12 +46,12 @@ struct RateContact {
 };
 
 struct RateProblem {
-  Eigen::MatrixXd basis;           // S: unknowns × D, orthonormal columns
+  Eigen::MatrixXd basis;  // S: unknowns × D, orthonormal columns
   std::vector<RateContact> contacts;
   // Rows of S whose force the perturbation releases to zero (the held contact's friction):
   // their forces are brought to zero first (phase 1), then stay there.
   std::vector<int> released_rows;
-  Eigen::VectorXd driver;          // d = Sᵀ(prescribed relative displacement per unit t)
+  Eigen::VectorXd driver;  // d = Sᵀ(prescribed relative displacement per unit t)
 
   // The static impulse of a row of S (a contact's normal or tangential one; 0 for a row
   // that is no contact's, e.g. a released balance).
@@ -59,14 +59,14 @@ struct RateProblem {
 };
 
 enum class RatePathEnd {
-  kCollapse,        // the forces plateau as t → ∞: the rigid limit, a quasi-static response
-  kUnbounded,       // the forces grow without bound with t: rigid grains block it
-  kReleaseFails,    // the released forces cannot be brought to zero along the path
-  kFixedCollapse,   // a mechanism grows with t fixed: the packing gives way elsewhere
-  kBack,            // the path returned to t = 0
-  kCycle,           // a state came back
-  kStalled,         // event limit
-  kSingular,        // a piece's linear system lost rank
+  kCollapse,       // the forces plateau as t → ∞: the rigid limit, a quasi-static response
+  kUnbounded,      // the forces grow without bound with t: rigid grains block it
+  kReleaseFails,   // the released forces cannot be brought to zero along the path
+  kFixedCollapse,  // a mechanism grows with t fixed: the packing gives way elsewhere
+  kBack,           // the path returned to t = 0
+  kCycle,          // a state came back
+  kStalled,        // event limit
+  kSingular,       // a piece's linear system lost rank
 };
 const char* ToString(RatePathEnd end);
 
@@ -74,15 +74,15 @@ enum class ContactState : unsigned char { kStick, kSlidePositive, kSlideNegative
 
 struct RatePathResult {
   RatePathEnd end = RatePathEnd::kStalled;
-  Eigen::VectorXd alpha;           // forces at the end: r = r₀ + S α
+  Eigen::VectorXd alpha;  // forces at the end: r = r₀ + S α
   std::vector<ContactState> states;
   // Per contact, the plastic velocity of the last piece per unit t (the mechanism per unit
   // perturbation at a collapse): (normal opening, tangential slip).
   std::vector<Eigen::Vector2d> rates;
-  Eigen::VectorXd alpha_rate;      // dα/dt on the last piece
-  double t = 0.0;                  // where the path ended
-  int events = 0;                  // state changes
-  int turns = 0;                   // reversals of t
+  Eigen::VectorXd alpha_rate;  // dα/dt on the last piece
+  double t = 0.0;              // where the path ended
+  int events = 0;              // state changes
+  int turns = 0;               // reversals of t
   std::string message;
 };
 
@@ -107,13 +107,13 @@ namespace unjam {
 // no static network holds the perturbed packing: the step is dynamic whatever else
 // happens (docs/perturbations.md).
 struct RateStaticLp {
-  bool decided = false;     // CLP ended optimal or proven infeasible
+  bool decided = false;  // CLP ended optimal or proven infeasible
   bool feasible = false;
   int iterations = 0;
   std::string message;
 };
 struct RateStaticLpOptions {
-  bool every_row = false;   // skip the cutting planes: one LP over every row (a cross-check)
+  bool every_row = false;  // skip the cutting planes: one LP over every row (a cross-check)
 };
 RateStaticLp SolveRateStaticLp(const RateProblem& problem, const RateStaticLpOptions& options = {});
 

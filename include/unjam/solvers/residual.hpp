@@ -25,9 +25,9 @@
 namespace unjam {
 
 struct ResidualBreakdown {
-  double residual = 0.0;       // max_k e_k / scale
-  double rms = 0.0;            // sqrt(mean e_k²) / scale
-  double scale = 0.0;          // the impulse scale used
+  double residual = 0.0;  // max_k e_k / scale
+  double rms = 0.0;       // sqrt(mean e_k²) / scale
+  double scale = 0.0;     // the impulse scale used
   int worst_contact = -1;
 };
 
@@ -49,8 +49,10 @@ class ResidualEvaluator {
   // The end velocities of `impulses`, the errors of contacts [begin, end) into `errors`
   // (sized NumContacts()), and the summary of all of them.
   VelocityState Velocities(const Eigen::VectorXd& impulses) const;
-  void Errors(const Eigen::VectorXd& impulses, const VelocityState& v, int begin, int end, std::vector<double>& errors) const;
-  ResidualBreakdown Summarise(const Eigen::VectorXd& impulses, const std::vector<double>& errors) const;
+  void Errors(const Eigen::VectorXd& impulses, const VelocityState& v, int begin, int end,
+              std::vector<double>& errors) const;
+  ResidualBreakdown Summarise(const Eigen::VectorXd& impulses,
+                              const std::vector<double>& errors) const;
 
  private:
   const ContactProblem& p_;

@@ -23,7 +23,7 @@ namespace unjam {
 
 struct StepOptions {
   double dt = 1e-3;
-  double overlap_correction = 1.0;   // see AssemblyOptions
+  double overlap_correction = 1.0;  // see AssemblyOptions
   // Contacts are detected up to gap < max(margin, 2 Δt · (largest approach speed)).
   double margin = 1e-6;
   std::string backend = "nsgs";
@@ -32,9 +32,9 @@ struct StepOptions {
 
 struct StepReport {
   SolveReport solve;
-  int contacts = 0;                 // contacts in the problem
-  int active_contacts = 0;          // with a non-zero normal impulse
-  double kinetic_energy = 0.0;      // of the free particles, end of step
+  int contacts = 0;             // contacts in the problem
+  int active_contacts = 0;      // with a non-zero normal impulse
+  double kinetic_energy = 0.0;  // of the free particles, end of step
 };
 
 class Simulation {
