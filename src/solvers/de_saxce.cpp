@@ -34,6 +34,8 @@
 #include <cstdio>
 #include <limits>
 
+#include <Eigen/SparseCholesky>
+
 #include "unjam/problem/kinematics.hpp"
 #include "unjam/solvers/residual.hpp"
 
@@ -82,6 +84,46 @@ std::string AsymmetryOf(const DelassusProblem& p) {
   return std::string(buf) +
          "the De Saxcé fixed point minimises 1/2 r^T W r + (q + s)^T r, which needs a symmetric W "
          "(docs/backends.md)";
+}
+
+std::string IndefinitenessOf(const DelassusProblem& p) {
+  const Eigen::SparseMatrix<double> transpose = p.w.transpose();
+  Eigen::SparseMatrix<double> shifted = 0.5 * (p.w + transpose);
+  double largest = 0.0;
+  for (int col = 0; col < shifted.outerSize(); ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(shifted, col); it; ++it)
+      largest = std::max(largest, std::abs(it.value()));
+  }
+  if (largest == 0.0) return "";
+  Eigen::SparseMatrix<double> identity(shifted.rows(), shifted.cols());
+  identity.setIdentity();
+  shifted += kDefinitenessTolerance * largest * identity;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(shifted);
+  int negative = 0;
+  double lowest = 0.0;
+  if (ldlt.info() == Eigen::Success) {
+    const Eigen::VectorXd d = ldlt.vectorD();
+    for (Eigen::Index i = 0; i < d.size(); ++i) {
+      if (d[i] < 0.0) ++negative;
+      lowest = std::min(lowest, d[i]);
+    }
+    if (negative == 0) return "";
+  }
+  char buf[200];
+  std::snprintf(
+      buf, sizeof buf,
+      "W is not positive semidefinite (the LDL^T factorisation of (W + W^T)/2 + %.0e max|W| I "
+      "has %d negative pivots, the lowest %.3g): ",
+      kDefinitenessTolerance, negative, lowest);
+  return std::string(buf) +
+         "1/2 r^T W r + (q + s)^T r is then not convex and the De Saxcé fixed point stalls among "
+         "its "
+         "local minima; nsgs, newton and lemke do not need a convex W (docs/backends.md)";
+}
+
+std::string NotConvexOf(const DelassusProblem& p) {
+  const std::string asymmetry = AsymmetryOf(p);
+  return asymmetry.empty() ? IndefinitenessOf(p) : asymmetry;
 }
 
 SolveResult Unsupported(const DelassusProblem& p, const std::string& backend,

@@ -45,6 +45,17 @@ ContactLayout LayoutOf(const DelassusProblem& problem);
 // otherwise why it is refused.
 constexpr double kSymmetryTolerance = 1e-10;
 std::string AsymmetryOf(const DelassusProblem& problem);
+// The convex step is convex only for a positive semidefinite W: an empty string if
+// W + τ I (τ = kDefinitenessTolerance × max |W_ij|) has no negative pivot in its sparse
+// LDLᵀ factorisation (by Sylvester's law of inertia: no eigenvalue of W below −τ),
+// otherwise why it is refused. A W with a negative eigenvalue, which Siconos' 00237 and
+// 00727 have (−8e-8, −5e-8), makes ½ rᵀ W r + sᵀ r non-convex: the library then returns
+// one of several local minima and the fixed point stalls. τ keeps the PSD but singular W
+// of a hyperstatic packing (round-off eigenvalues near 0) out of the test.
+constexpr double kDefinitenessTolerance = 1e-9;
+std::string IndefinitenessOf(const DelassusProblem& problem);
+// Both refusals of the convex backends, the first that applies.
+std::string NotConvexOf(const DelassusProblem& problem);
 // The refusal of a backend that cannot pose `problem` (kUnsupported, zero impulses).
 SolveResult Unsupported(const DelassusProblem& problem, const std::string& backend,
                         const std::string& why);

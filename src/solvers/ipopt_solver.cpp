@@ -395,8 +395,8 @@ SolveResult IpoptSolver::Solve(const ContactProblem& p, const SolverOptions& opt
 SolveResult IpoptSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
   Validate(p);
   Validate(options);
-  const std::string asymmetry = AsymmetryOf(p);
-  if (!asymmetry.empty()) return Unsupported(p, Name(), asymmetry);
+  const std::string not_convex = NotConvexOf(p);
+  if (!not_convex.empty()) return Unsupported(p, Name(), not_convex);
   const std::lock_guard<std::mutex> lock(MumpsLock());
   IpoptStep<DelassusProblem> step(p, options);
   return SolveByDeSaxceFixedPoint(p, options, Name(), step);

@@ -327,8 +327,8 @@ SolveResult NloptSolver::Solve(const ContactProblem& p, const SolverOptions& opt
 SolveResult NloptSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
   Validate(p);
   Validate(options);
-  const std::string asymmetry = AsymmetryOf(p);
-  if (!asymmetry.empty()) return Unsupported(p, Name(), asymmetry);
+  const std::string not_convex = NotConvexOf(p);
+  if (!not_convex.empty()) return Unsupported(p, Name(), not_convex);
   NloptStep step(p, options, ImpulseScale(p), std::make_unique<const StoredDelassus>(p));
   return SolveByDeSaxceFixedPoint(p, options, Name(), step);
 }

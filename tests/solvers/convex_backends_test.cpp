@@ -236,3 +236,47 @@ TEST(ConvexBackends, OptionRulesNameTheField) {
 
 }  // namespace
 }  // namespace unjam
+
+namespace unjam {
+namespace {
+
+// Two contacts whose W is given: the symmetric matrix with eigenvalues `low` and `high`
+// along (1, 0, 1, 0)/√2 and (1, 0, −1, 0)/√2, and 1 on the tangential diagonal.
+DelassusProblem TwoContactsWithEigenvalues(double low, double high) {
+  DelassusProblem p;
+  const double a = 0.5 * (high + low), b = 0.5 * (high - low);
+  Eigen::MatrixXd w = Eigen::MatrixXd::Identity(4, 4);
+  w(0, 0) = w(2, 2) = a;
+  w(0, 2) = w(2, 0) = -b;
+  p.w = w.sparseView();
+  // Contact 0 is pushed closed, contact 1 pulled open: with the singular W, r_0 − r_1 = 1
+  // closes both exactly, for every r_1 ≥ 0 (indeterminate forces, as in a hyperstatic pile).
+  p.q = Eigen::Vector4d(-1.0, 0.0, 1.0, 0.0);
+  p.laws = {{0.5, ConstraintKind::kUnilateral}, {0.5, ConstraintKind::kUnilateral}};
+  return p;
+}
+
+// A W with a negative eigenvalue makes the convex step non-convex: refused, with its reason;
+// a positive semidefinite but singular W (the Delassus operator of a hyperstatic network)
+// is not, and its solution is found.
+TEST(ConvexBackends, RefuseAnIndefiniteWButNotASingularOne) {
+  EXPECT_NE(IndefinitenessOf(TwoContactsWithEigenvalues(-1e-6, 2.0)), "");
+  EXPECT_EQ(IndefinitenessOf(TwoContactsWithEigenvalues(0.0, 2.0)), "");
+  EXPECT_EQ(IndefinitenessOf(TwoContactsWithEigenvalues(1.0, 2.0)), "");
+  for (const std::string& backend : kConvexBackends) {
+    SCOPED_TRACE(backend);
+    SolverOptions o;
+    o.tolerance = 1e-10;
+    const SolveResult refused =
+        MakeSolver(backend)->SolveDelassus(TwoContactsWithEigenvalues(-1e-6, 2.0), o);
+    EXPECT_EQ(refused.report.status, SolveStatus::kUnsupported);
+    EXPECT_NE(refused.report.message.find("not positive semidefinite"), std::string::npos);
+    const DelassusProblem singular = TwoContactsWithEigenvalues(0.0, 2.0);
+    const SolveResult solved = MakeSolver(backend)->SolveDelassus(singular, o);
+    EXPECT_EQ(solved.report.status, SolveStatus::kConverged) << solved.report.message;
+    EXPECT_LE(ComputeResidual(singular, solved.impulses).residual, o.tolerance);
+  }
+}
+
+}  // namespace
+}  // namespace unjam
