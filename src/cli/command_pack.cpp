@@ -274,7 +274,7 @@ nlohmann::json PackFlags::Parameters() const {
 
 // Frictionless packings jam isostatic, where loose steps (NSGS at 1e-4) leave the backbone
 // held up by their own errors and no certificate ever passes; newton steps at 1e-8 certify
-// them (docs/performance.md, "What does work with the current protocol"), and nearly
+// them (docs/performance.md, "Frictionless and nearly frictionless cells"), and nearly
 // frictionless ones (mu <= 1e-4) since newton starts their steps from the frictionless
 // solution (N = 500 at mu = 1e-8, 1e-5, 1e-4). With more friction newton steps cost far
 // more than NSGS's (15x at N = 500, mu = 1) and do not end the creep, so NSGS stays the
