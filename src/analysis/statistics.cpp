@@ -221,8 +221,11 @@ ExponentialTailFit FitExponentialTail(const std::vector<double>& samples, double
 }
 
 Histogram MakeHistogram(const std::vector<double>& samples, double low, double high, int bins) {
-  if (bins < 1 || !(high > low) || !std::isfinite(low) || !std::isfinite(high)) {
-    throw std::invalid_argument("MakeHistogram: need low < high (finite) and bins >= 1");
+  // A range so narrow that its bins' width underflows to 0 would index bins by NaN.
+  if (bins < 1 || !(high > low) || !std::isfinite(low) || !std::isfinite(high) ||
+      !((high - low) / bins > 0.0)) {
+    throw std::invalid_argument(
+        "MakeHistogram: need low < high (finite, bins of positive width) and bins >= 1");
   }
   Histogram h;
   h.low = low;

@@ -134,8 +134,11 @@ Histogram HistogramOf(const std::vector<double>& samples, double scale, int bins
     top = std::max(top, s / scale);
   }
   const double low = std::min(0.0, *std::min_element(scaled.begin(), scaled.end()));
-  return MakeHistogram(scaled, low, std::nextafter(top, std::numeric_limits<double>::infinity()),
-                       bins);
+  // Every sample at zero (openings that need no force): one unit-wide range, all of them in
+  // its first bin, rather than a range whose bins have no width.
+  const double high =
+      top > low ? std::nextafter(top, std::numeric_limits<double>::infinity()) : low + 1.0;
+  return MakeHistogram(scaled, low, high, bins);
 }
 
 void SummarizeFields(const std::vector<const ReducedResponse*>& used, const ResponseLayout& layout,
@@ -166,6 +169,69 @@ void SummarizeFields(const std::vector<const ReducedResponse*>& used, const Resp
     const double p = std::abs(box.pressure_change);
     box.shear_angle = box.max_shear <= p && p > 0.0 ? std::asin(box.max_shear / p) : kNaN;
   }
+}
+
+// |Σ d / Σ count| per box of the field grid over the records in [0, n) but [skip_begin,
+// skip_end), then averaged over the boxes of each radial bin.
+std::vector<LogBin> AveragedFieldProfile(const std::vector<const ReducedResponse*>& used,
+                                         const ResponseLayout& layout, std::size_t skip_begin,
+                                         std::size_t skip_end) {
+  const int boxes = layout.field.nx * layout.field.ny;
+  std::vector<double> r, magnitude;
+  for (int b = 0; b < boxes; ++b) {
+    Vec2 sum = Vec2::Zero();
+    int count = 0;
+    for (std::size_t k = 0; k < used.size(); ++k) {
+      if (k >= skip_begin && k < skip_end) continue;
+      sum += Vec2(used[k]->field[2 * b], used[k]->field[2 * b + 1]);
+      count += used[k]->field_count[b];
+    }
+    if (count == 0) continue;
+    r.push_back(layout.field.BoxCenter(b).norm());
+    magnitude.push_back((sum / count).norm());
+  }
+  std::vector<LogBin> bins =
+      LogBinned(r, magnitude, layout.profile_min, layout.profile_max, layout.bins_per_decade);
+  for (LogBin& bin : bins) bin.error = 0.0;  // the scatter over angles is no error of the mean
+  return bins;
+}
+
+// The paper's d(r) and α (EnsembleSummary::averaged_field_profile), with errors from a
+// jackknife over kJackknifeBlocks contiguous blocks of perturbations: the field average is
+// not a mean of independent per-perturbation numbers, so the bins' and α's errors come from
+// how much they move when one block is left out.
+constexpr std::size_t kJackknifeBlocks = 20;
+
+void SummarizeAveragedFieldDecay(const std::vector<const ReducedResponse*>& used,
+                                 const ResponseLayout& layout, double fit_min, double fit_max,
+                                 EnsembleSummary& out) {
+  out.averaged_field_profile = AveragedFieldProfile(used, layout, 0, 0);
+  const std::size_t blocks = std::min(kJackknifeBlocks, used.size());
+  std::vector<std::vector<LogBin>> left_out;
+  for (std::size_t j = 0; blocks >= 2 && j < blocks; ++j) {
+    left_out.push_back(AveragedFieldProfile(used, layout, j * used.size() / blocks,
+                                            (j + 1) * used.size() / blocks));
+  }
+  // Bin errors first (FitPowerLaw weights by them), then α's from the refits.
+  std::vector<LogBin>& bins = out.averaged_field_profile;
+  const double factor = blocks >= 2 ? static_cast<double>(blocks - 1) / blocks : 0.0;
+  for (std::size_t b = 0; b < bins.size(); ++b) {
+    double mean = 0.0, square = 0.0;
+    for (const std::vector<LogBin>& p : left_out) mean += p[b].mean / left_out.size();
+    for (const std::vector<LogBin>& p : left_out) square += (p[b].mean - mean) * (p[b].mean - mean);
+    bins[b].error = std::sqrt(factor * square);
+  }
+  out.decay = FitPowerLaw(bins, fit_min, fit_max);
+  if (left_out.empty() || out.decay.points < 3) return;
+  std::vector<double> alphas;
+  for (std::vector<LogBin>& p : left_out) {
+    for (std::size_t b = 0; b < p.size(); ++b) p[b].error = bins[b].error;
+    alphas.push_back(FitPowerLaw(p, fit_min, fit_max).alpha);
+  }
+  double mean = 0.0, square = 0.0;
+  for (double a : alphas) mean += a / alphas.size();
+  for (double a : alphas) square += (a - mean) * (a - mean);
+  out.decay.alpha_error = std::sqrt(factor * square);
 }
 
 }  // namespace
@@ -256,7 +322,7 @@ EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const Res
   out.displacement_profile = AverageProfiles(d_profiles, layout);
   out.force_profile = AverageProfiles(f_profiles, layout);
   const double fit_max = options.fit_max > 0.0 ? options.fit_max : 0.5 * layout.window;
-  out.decay = FitPowerLaw(out.displacement_profile, options.fit_min, fit_max);
+  out.magnitude_decay = FitPowerLaw(out.displacement_profile, options.fit_min, fit_max);
 
   if (!fc.empty()) {
     out.fcrit_raw = HistogramOf(fc, 1.0, options.histogram_bins);
@@ -269,6 +335,7 @@ EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const Res
     }
   }
   SummarizeFields(used, layout, out);
+  SummarizeAveragedFieldDecay(used, layout, options.fit_min, fit_max, out);
   return out;
 }
 

@@ -93,8 +93,14 @@ struct EnsembleSummary {
   double ratio = 0.0, ratio_error = 0.0;  // ⟨F_crit⟩ / ⟨F_reference⟩
   double f0 = 0.0;
   double corr_fcrit_delta = 0.0, corr_freference_delta = 0.0, corr_fcrit_freference = 0.0;
-  std::vector<LogBin> displacement_profile;  // ⟨|d|⟩/ξ vs r, error over perturbations
-  PowerLawFit decay;                         // d ∝ r^(−α)
+  // The paper's d(r) (METHOD.md, "Average displacement decay"): the displacement fields of
+  // all used perturbations averaged as vectors in the contact frame (`field`), the
+  // magnitude of that average per box, averaged over the angle at each r (boxes by the
+  // distance of their centre); errors by a jackknife over blocks of perturbations.
+  std::vector<LogBin> averaged_field_profile;
+  PowerLawFit decay;  // the paper's α: d ∝ r^(−α) of averaged_field_profile (jackknife error)
+  std::vector<LogBin> displacement_profile;  // ⟨|d|⟩/ξ vs r, the mean of each |d_i| per bin
+  PowerLawFit magnitude_decay;               // its fit: another quantity than the paper's α
   std::vector<LogBin> force_profile;         // ⟨|Δf_n|⟩ vs r
   Histogram fcrit_raw, fcrit_over_f0, fcrit_over_mean;
   ExponentialTailFit fcrit_tail;  // of F_crit/⟨F_crit⟩ above 1
