@@ -402,6 +402,15 @@ nlohmann::json MeanOrNull(const MeanAndError& m) {
 nlohmann::json ErrorOrNull(const MeanAndError& m) {
   return m.count > 1 ? NumberOrNull(m.error) : nlohmann::json(nullptr);
 }
+// A mean (and its error) over a fixed positive denominator.
+nlohmann::json RatioOrNull(const MeanAndError& m, double denominator) {
+  return m.count > 0 && denominator > 0.0 ? NumberOrNull(m.mean / denominator)
+                                          : nlohmann::json(nullptr);
+}
+nlohmann::json RatioErrorOrNull(const MeanAndError& m, double denominator) {
+  return m.count > 1 && denominator > 0.0 ? NumberOrNull(m.error / denominator)
+                                          : nlohmann::json(nullptr);
+}
 
 nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel,
                            const PerturbationOptions& o, const PerturbationBase& base,
@@ -437,6 +446,12 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel,
       {"mean_freference", MeanOrNull(s.f_reference)},
       {"ratio_fcrit_freference", NumberOrNull(s.ratio)},
       {"ratio_error", NumberOrNull(s.ratio_error)},
+      // The paper's ratio for openings: ⟨F_crit⟩ of the used openings over ⟨F_cont⟩ of
+      // every force-carrying contact of the packing, not only of the opened ones.
+      {"mean_fcont_all", base.mean_contact_force},
+      {"ratio_fcrit_fcont_all", shift ? nullptr : RatioOrNull(s.f_crit, base.mean_contact_force)},
+      {"ratio_fcrit_fcont_all_error",
+       shift ? nullptr : RatioErrorOrNull(s.f_crit, base.mean_contact_force)},
       {"f0", s.f0},
       {"mean_delta", MeanOrNull(s.penetration_depth)},
       {"mean_delta_error", ErrorOrNull(s.penetration_depth)},
@@ -480,6 +495,11 @@ void PrintSummary(const nlohmann::json& j) {
               j["reference"].get<std::string>().c_str());
   std::printf("<F_crit>/<ref>     %s +- %s\n", num("ratio_fcrit_freference").c_str(),
               num("ratio_error").c_str());
+  if (!j["ratio_fcrit_fcont_all"].is_null()) {
+    std::printf("  over all F_cont  %s +- %s (<F_cont> of every contact, %d openings used)\n",
+                num("ratio_fcrit_fcont_all").c_str(), num("ratio_fcrit_fcont_all_error").c_str(),
+                j["used"].get<int>());
+  }
   std::printf("<delta>            %s +- %s\n", num("mean_delta").c_str(),
               num("mean_delta_error").c_str());
   std::printf("decay alpha        %s +- %s (|<d>|(r) ~ r^-alpha, the averaged field; %d bins)\n",

@@ -17,6 +17,10 @@ assert d["perturbations"] == 2 and d["used"] == 2, d
 # m g / (2 cos θ) with m = π, cos θ = 0.8
 assert abs(d["mean_fcrit"] - math.pi / 1.6) < 1e-7, d["mean_fcrit"]
 assert abs(d["mean_delta"] - 1.0) < 1e-6, d["mean_delta"]
+# The paper's ratio: over the mean force of every contact. Both supports carry the same
+# force, which each opening needs, so it is 1 here too.
+assert abs(d["ratio_fcrit_fcont_all"] - d["mean_fcrit"] / d["mean_fcont_all"]) < 1e-12, d
+assert abs(d["ratio_fcrit_fcont_all"] - 1.0) < 1e-6, d["ratio_fcrit_fcont_all"]
 PY
 for f in perturbations.csv profile.csv fcrit_histogram.csv field.csv stress.csv summary.json records.jsonl displacement.csv response.vtk response.xyz; do
   [ -s "$work/out/$f" ] || fail "missing output $f"
