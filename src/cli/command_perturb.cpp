@@ -356,11 +356,13 @@ std::string FieldCsv(const EnsembleSummary& s) {
 
 std::string StressCsv(const EnsembleSummary& s) {
   std::ostringstream os;
-  os << "x,y,dsigma_xx,dsigma_xy,dsigma_yy,pressure_change,max_shear,shear_angle\n";
+  os << "x,y,dsigma_xx,dsigma_xy,dsigma_yy,pressure_change,max_shear,shear_angle,sigma_xx_after,"
+        "sigma_xy_after,sigma_yy_after,pressure_after,shear_angle_after\n";
   for (const StressBox& b : s.stress) {
-    os << Format("%.6g,%.6g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", b.center.x(), b.center.y(),
-                 b.mean(0, 0), b.mean(0, 1), b.mean(1, 1), b.pressure_change, b.max_shear,
-                 b.shear_angle);
+    os << Format("%.6g,%.6g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n",
+                 b.center.x(), b.center.y(), b.mean(0, 0), b.mean(0, 1), b.mean(1, 1),
+                 b.pressure_change, b.max_shear, b.shear_angle, b.after(0, 0), b.after(0, 1),
+                 b.after(1, 1), b.pressure_after, b.shear_angle_after);
   }
   return os.str();
 }
@@ -676,7 +678,7 @@ int RunPerturb(const PerturbFlags& f) {
   }
   std::vector<ReducedResponse> ordered;
   for (const auto& [k, r] : records) ordered.push_back(r);
-  const EnsembleSummary summary = Summarize(ordered, layout, ensemble);
+  const EnsembleSummary summary = Summarize(ordered, layout, ensemble, &base);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   nlohmann::json out = SummaryJson(f, selection, options, base, summary, seconds);
   out["targets"] = total;

@@ -141,6 +141,26 @@ Histogram HistogramOf(const std::vector<double>& samples, double scale, int bins
   return MakeHistogram(scaled, low, high, bins);
 }
 
+// ⟨σ_static⟩ over the used perturbations' frames plus ⟨Δσ⟩, and its angle of shearing.
+void AddStaticStress(const PerturbationBase& base, const std::vector<const ReducedResponse*>& used,
+                     const ResponseLayout& layout, EnsembleSummary& out) {
+  if (used.empty()) return;
+  std::vector<Eigen::Matrix2d> sum(out.stress.size(), Eigen::Matrix2d::Zero());
+  for (const ReducedResponse* r : used) {
+    const std::vector<Eigen::Matrix2d> s = StaticStressInFrame(base, r->origin, r->axis, layout);
+    for (std::size_t b = 0; b < sum.size(); ++b) sum[b] += s[b];
+  }
+  for (std::size_t b = 0; b < sum.size(); ++b) {
+    StressBox& box = out.stress[b];
+    box.after = sum[b] / static_cast<double>(used.size()) + box.mean;
+    box.pressure_after = Pressure(box.after);
+    const double shear = MaxShear(box.after);
+    box.shear_angle_after = box.pressure_after > 0.0 && shear <= box.pressure_after
+                                ? std::asin(shear / box.pressure_after)
+                                : kNaN;
+  }
+}
+
 void SummarizeFields(const std::vector<const ReducedResponse*>& used, const ResponseLayout& layout,
                      EnsembleSummary& out) {
   const int boxes = layout.field.nx * layout.field.ny;
@@ -285,8 +305,23 @@ ReducedResponse Reduce(const PerturbationBase& base, const PerturbationResult& r
   return out;
 }
 
+std::vector<Eigen::Matrix2d> StaticStressInFrame(const PerturbationBase& base, Vec2 origin,
+                                                 Vec2 axis, const ResponseLayout& layout) {
+  std::vector<StressSegment> segments;
+  for (std::size_t a = 0; a < base.contacts.size(); ++a) {
+    const Contact& c = base.contacts[a];
+    const double fn = base.forces[a][0], ft = base.forces[a][1];
+    if (fn == 0.0 && ft == 0.0) continue;
+    const Vec2 start = MinimumImage(base.scene.cell, base.scene.particles[c.i].position - origin);
+    const Vec2 force = fn * c.normal + ft * Perp(c.normal);
+    segments.push_back(
+        {ToFrame(axis, start), ToFrame(axis, c.center_to_center), ToFrame(axis, force)});
+  }
+  return CoarseGrainedStress(layout.stress, segments).stress;
+}
+
 EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const ResponseLayout& layout,
-                          const EnsembleOptions& options) {
+                          const EnsembleOptions& options, const PerturbationBase* base) {
   EnsembleSummary out;
   out.perturbations = static_cast<int>(records.size());
   out.f0 = layout.f0;
@@ -335,6 +370,7 @@ EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const Res
     }
   }
   SummarizeFields(used, layout, out);
+  if (base != nullptr) AddStaticStress(*base, used, layout, out);
   SummarizeAveragedFieldDecay(used, layout, options.fit_min, fit_max, out);
   return out;
 }

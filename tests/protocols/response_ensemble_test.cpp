@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/response_ensemble.hpp"
 
 namespace unjam {
@@ -69,6 +70,29 @@ TEST(ResponseEnsemble, ThePapersAlphaIsThatOfTheAveragedField) {
   // Every F_crit is 0 here: the histograms still have bins (they once indexed by NaN).
   ASSERT_EQ(s.fcrit_raw.counts.size(), static_cast<std::size_t>(options.histogram_bins));
   EXPECT_EQ(s.fcrit_raw.counts[0], 40);
+}
+
+// The static stress in a contact frame, coarse-grained over a periodic grid that tiles the
+// (square) cell, is the virial stress of the packing: its mean pressure is the packing's
+// virial pressure, in the frame of either axis (a quarter turn maps the cell onto itself).
+TEST(ResponseEnsemble, StaticStressInAFrameAddsUpToTheVirialPressure) {
+  const Scene scene =
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
+  ASSERT_EQ(scene.cell.size.x(), scene.cell.size.y());
+  const PerturbationBase base = PreparePerturbations(scene, PerturbationOptions{});
+  ResponseLayout layout = MakeLayout(base, EnsembleOptions{}, 1e-9);
+  const double side = scene.cell.size.x();
+  layout.stress.nx = layout.stress.ny = 17;
+  layout.stress.side = Vec2(side / 17, side / 17);
+  layout.stress.origin = Vec2(-0.5 * side, -0.5 * side);
+  layout.stress.periodic_x = layout.stress.periodic_y = true;
+  for (const Vec2 axis : {Vec2(1.0, 0.0), Vec2(0.0, 1.0)}) {
+    const std::vector<Eigen::Matrix2d> s =
+        StaticStressInFrame(base, scene.particles[7].position, axis, layout);
+    Eigen::Matrix2d mean = Eigen::Matrix2d::Zero();
+    for (const Eigen::Matrix2d& box : s) mean += box / static_cast<double>(s.size());
+    EXPECT_NEAR(Pressure(mean), base.pressure, 1e-9 * base.pressure);
+  }
 }
 
 }  // namespace

@@ -84,6 +84,13 @@ struct StressBox {
   double pressure_change = 0.0;                    // ½ tr ⟨Δσ⟩
   double max_shear = 0.0;                          // τ_max of ⟨Δσ⟩
   double shear_angle = 0.0;  // arcsin(τ_max / |ΔP|), radians; NaN if τ_max > |ΔP|
+  // The stress after the perturbation, the paper's: ⟨σ_static⟩ (the base's static forces,
+  // coarse-grained in each used perturbation's contact frame) + ⟨Δσ⟩; its pressure and its
+  // angle of shearing θ = arcsin(τ_max / P) (NaN where τ_max > P or P ≤ 0). Without the
+  // base (Summarize's last argument) these stay NaN.
+  Eigen::Matrix2d after = Eigen::Matrix2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double pressure_after = std::numeric_limits<double>::quiet_NaN();
+  double shear_angle_after = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct EnsembleSummary {
@@ -107,7 +114,14 @@ struct EnsembleSummary {
   std::vector<FieldBox> field;
   std::vector<StressBox> stress;
 };
+// `base`, if given, is the packing the records perturbed: it adds the static stress to the
+// stress boxes (StressBox::after).
 EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const ResponseLayout& layout,
-                          const EnsembleOptions& options);
+                          const EnsembleOptions& options, const PerturbationBase* base = nullptr);
+
+// The base's static stress coarse-grained on layout.stress in the contact frame of
+// (origin, axis): each static contact force's dyad f ⊗ l shared among the boxes.
+std::vector<Eigen::Matrix2d> StaticStressInFrame(const PerturbationBase& base, Vec2 origin,
+                                                 Vec2 axis, const ResponseLayout& layout);
 
 }  // namespace unjam
