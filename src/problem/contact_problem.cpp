@@ -1,11 +1,90 @@
 // Sparse views of a ContactProblem and the maps r ↦ v ↦ ũ that every backend shares.
 #include "unjam/problem/contact_problem.hpp"
 
+#include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/SparseCore>
 
 namespace unjam {
+
+namespace {
+
+[[noreturn]] void RejectProblem(const std::string& what) {
+  throw std::invalid_argument("contact problem: " + what);
+}
+
+std::string Indexed(const char* field, std::size_t k) {
+  return std::string(field) + "[" + std::to_string(k) + "]";
+}
+
+void RequireSize(const char* field, std::size_t size, std::size_t expected, bool may_be_empty) {
+  if (size == expected || (may_be_empty && size == 0)) return;
+  RejectProblem(std::string(field) + " has " + std::to_string(size) + " entries, expected " +
+                std::to_string(expected) + (may_be_empty ? " or 0" : ""));
+}
+
+void RequireFinite(const std::string& field, double value) {
+  if (!std::isfinite(value)) RejectProblem(field + " is " + std::to_string(value) + ", not finite");
+}
+
+void RequireNonNegative(const std::string& field, double value) {
+  if (!(value >= 0.0) || !std::isfinite(value)) {
+    RejectProblem(field + " is " + std::to_string(value) + " (must be finite and >= 0)");
+  }
+}
+
+void ValidateBodies(const ContactProblem& p) {
+  const std::size_t n = p.inv_mass.size();
+  RequireSize("free_velocity", p.free_velocity.size(), n, false);
+  RequireSize("inv_inertia", p.inv_inertia.size(), n, !p.frictional);
+  RequireSize("free_spin", p.free_spin.size(), n, !p.frictional);
+  for (std::size_t b = 0; b < n; ++b) {
+    RequireNonNegative(Indexed("inv_mass", b), p.inv_mass[b]);
+    if (b < p.inv_inertia.size()) RequireNonNegative(Indexed("inv_inertia", b), p.inv_inertia[b]);
+    RequireFinite(Indexed("free_velocity", b) + ".x", p.free_velocity[b].x());
+    RequireFinite(Indexed("free_velocity", b) + ".y", p.free_velocity[b].y());
+    if (b < p.free_spin.size()) RequireFinite(Indexed("free_spin", b), p.free_spin[b]);
+  }
+}
+
+void ValidateContact(const ContactProblem& p, std::size_t k) {
+  const ProblemContact& c = p.contacts[k];
+  const std::string name = Indexed("contacts", k);
+  for (const int body : {c.body_i, c.body_j}) {
+    if (body < -1 || body >= p.NumBodies()) {
+      RejectProblem(name + " names body " + std::to_string(body) + ", outside [-1, " +
+                    std::to_string(p.NumBodies()) + ")");
+    }
+  }
+  if (!(std::abs(c.normal.norm() - 1.0) <= 1e-6)) {
+    RejectProblem(name + ".normal has length " + std::to_string(c.normal.norm()) + ", not 1");
+  }
+  RequireNonNegative(name + ".mu", c.mu);
+  for (const double value :
+       {c.arm_i, c.arm_j, c.cell_arm, c.target_velocity, c.bias.x(), c.bias.y()}) {
+    RequireFinite(name + " (arm, cell arm, target velocity or bias)", value);
+  }
+}
+
+}  // namespace
+
+void Validate(const ContactProblem& p) {
+  if (!(p.dt > 0.0) || !std::isfinite(p.dt)) {
+    RejectProblem("dt is " + std::to_string(p.dt) + " (must be finite and > 0)");
+  }
+  ValidateBodies(p);
+  if (p.cell) {
+    RequireNonNegative("cell.inv_mass", p.cell->inv_mass);
+    RequireFinite("cell.free_rate", p.cell->free_rate);
+  }
+  for (std::size_t k = 0; k < p.contacts.size(); ++k) ValidateContact(p, k);
+  RequireSize("initial_guess", static_cast<std::size_t>(p.initial_guess.size()),
+              static_cast<std::size_t>(p.NumUnknowns()), true);
+  RequireSize("initial_basis", p.initial_basis.size(), p.contacts.size(), true);
+}
 
 namespace {
 

@@ -383,6 +383,7 @@ std::mutex& MumpsLock() {
 }  // namespace
 
 SolveResult IpoptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(p);
   Validate(options);
   // MUMPS is not thread-safe, and Ipopt 3.11 does not guard it (3.14 added a mutex), while
   // perturb solves in parallel threads: one Ipopt solve at a time in the process, from the

@@ -536,6 +536,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
 }  // namespace
 
 SolveResult LemkeSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(p);
   Validate(options);
   return SolveLemke(p, MatrixFormOf(p), options, Name());
 }

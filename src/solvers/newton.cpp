@@ -457,6 +457,7 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
 }  // namespace
 
 SolveResult NewtonSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(p);
   Validate(options);
   return SolveNewton(p, options, Name());
 }

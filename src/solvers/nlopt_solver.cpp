@@ -319,6 +319,7 @@ double ImpulseScale(const Problem& p) {
 }  // namespace
 
 SolveResult NloptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(p);
   Validate(options);
   NloptStep step(p, options, ImpulseScale(p), std::make_unique<const BodyDelassus>(p));
   return SolveByDeSaxceFixedPoint(p, options, Name(), step);

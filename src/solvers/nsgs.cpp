@@ -474,6 +474,7 @@ void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layou
 }  // namespace
 
 SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
+  Validate(p);
   Validate(options);
   const auto start = std::chrono::steady_clock::now();
   const Layout layout = MakeLayout(p, options.sweep_order);

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "test_problems.hpp"
 #include "test_scenes.hpp"
@@ -43,6 +44,31 @@ TEST_P(Backend, SticksSlidesAndOpensOneContactExactly) {
     EXPECT_NEAR(r.impulses[1], rt, 1e-12);
     EXPECT_EQ(r.report.backend, GetParam());
   }
+}
+
+// An inconsistent problem is refused before any solve, naming the field and the index.
+TEST_P(Backend, RefusesAnInconsistentProblemNamingTheField) {
+  auto refusal = [&](const ContactProblem& p) -> std::string {
+    try {
+      Solve(p, 1e-10);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  ContactProblem body = OneContact(1.0, 0.3, 1.0);
+  body.contacts[0].body_j = 7;
+  EXPECT_NE(refusal(body).find("contacts[0] names body 7"), std::string::npos) << refusal(body);
+  ContactProblem mass = OneContact(1.0, 0.3, 1.0);
+  mass.inv_mass[0] = -1.0;
+  EXPECT_NE(refusal(mass).find("inv_mass[0]"), std::string::npos) << refusal(mass);
+  ContactProblem guess = OneContact(1.0, 0.3, 1.0);
+  guess.initial_guess = Eigen::VectorXd::Zero(3);
+  EXPECT_NE(refusal(guess).find("initial_guess has 3 entries"), std::string::npos)
+      << refusal(guess);
+  ContactProblem normal = OneContact(1.0, 0.3, 1.0);
+  normal.contacts[0].normal = Vec2(1.0, 1.0);
+  EXPECT_NE(refusal(normal).find("contacts[0].normal"), std::string::npos) << refusal(normal);
 }
 
 TEST_P(Backend, StackCarriesTheWeightAbove) {

@@ -85,6 +85,13 @@ struct ContactProblem {
 
 // Sparse views of the same data, for backends that want matrices.
 // H: NumUnknowns() × NumDofs(); rows per contact (n[, t]).
+// Throws std::invalid_argument naming the field, the index and the rule where the problem
+// is inconsistent: per-body arrays of another size than inv_mass (inv_inertia and free_spin
+// may be empty without friction), a contact's body outside [−1, NumBodies()), a normal not
+// of unit length (1e-6), a negative or non-finite inverse mass, friction coefficient or
+// time step, a non-finite velocity, bias or target, or a warm start or basis of another size.
+void Validate(const ContactProblem& problem);
+
 Eigen::SparseMatrix<double> AssembleJacobian(const ContactProblem& problem);
 Eigen::VectorXd InverseMassDiagonal(const ContactProblem& problem);  // size NumDofs()
 Eigen::VectorXd FreeVelocityVector(const ContactProblem& problem);   // size NumDofs()
