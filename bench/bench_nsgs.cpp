@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <string>
 
+#include "sweep_timing.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/problem/assembly.hpp"
 #include "unjam/solvers/contact_solver.hpp"
@@ -78,22 +79,11 @@ constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, Swe
 void TimeSweeps(benchmark::State& state, const ContactProblem& p, int threads = 1) {
   SolverOptions o;
   o.threads = threads;
-  o.tolerance = 1e-300;  // never reached: time a fixed number of sweeps
-  o.max_iterations = 100;
-  o.check_interval = 100;
   o.sweep_order = kOrders[state.range(1)];
-  auto solver = MakeSolver("nsgs");
-  std::int64_t updates = 0;
-  double seconds = 0.0;
-  for (auto _ : state) {
-    SolveResult r = solver->Solve(p, o);
-    updates += r.report.contact_updates;
-    seconds += r.report.seconds;
-    benchmark::DoNotOptimize(r.impulses.data());
-  }
-  state.counters["contacts"] = p.NumContacts();
-  state.counters["ns_per_update"] = seconds * 1e9 / static_cast<double>(updates);
-  state.SetItemsProcessed(updates);
+  TimeFixedSweeps(state, o, 100, p.NumContacts(),
+                  [&](ContactSolver& solver, const SolverOptions& options) {
+                    return solver.Solve(p, options);
+                  });
 }
 
 void BM_NsgsSweeps(benchmark::State& state) {

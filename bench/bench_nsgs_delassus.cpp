@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "sweep_timing.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/siconos_problem.hpp"
 #include "unjam/problem/assembly.hpp"
@@ -49,22 +50,11 @@ DelassusProblem PileProblem() {
 void TimeSweeps(benchmark::State& state, const DelassusProblem& p, int sweeps) {
   SolverOptions o;
   o.sweep_order = state.range(1) == 0 ? SweepOrder::kForward : SweepOrder::kRandom;
-  o.tolerance = 1e-300;  // never reached: time a fixed number of sweeps
-  o.max_iterations = sweeps;
-  o.check_interval = sweeps;
-  auto solver = MakeSolver("nsgs");
-  std::int64_t updates = 0;
-  double seconds = 0.0;
-  for (auto _ : state) {
-    SolveResult r = solver->SolveDelassus(p, o);
-    updates += r.report.contact_updates;
-    seconds += r.report.seconds;
-    benchmark::DoNotOptimize(r.impulses.data());
-  }
-  state.counters["contacts"] = p.NumContacts();
+  TimeFixedSweeps(state, o, sweeps, p.NumContacts(),
+                  [&](ContactSolver& solver, const SolverOptions& options) {
+                    return solver.SolveDelassus(p, options);
+                  });
   state.counters["w_nonzeros"] = static_cast<double>(p.w.nonZeros());
-  state.counters["ns_per_update"] = seconds * 1e9 / static_cast<double>(updates);
-  state.SetItemsProcessed(updates);
 }
 
 void BM_NsgsDelassusCollection(benchmark::State& state) {

@@ -72,6 +72,20 @@ void ReduceDisplacements(const PerturbationBase& base, const PerturbationResult&
   out.displacement_profile = BinMeans(r, magnitude, layout);
 }
 
+// A contact's force (fn, ft) on its centre-to-centre segment from particle i, in the
+// contact frame of (origin, axis): what the coarse-grained stress shares among boxes.
+StressSegment FrameSegment(const Scene& scene, int i, Vec2 branch, Vec2 normal, double fn,
+                           double ft, Vec2 origin, Vec2 axis) {
+  const Vec2 start = MinimumImage(scene.cell, scene.particles[i].position - origin);
+  const Vec2 force = fn * normal + ft * Perp(normal);
+  return {ToFrame(axis, start), ToFrame(axis, branch), ToFrame(axis, force)};
+}
+
+// arcsin(τ_max / P) where P > 0 and τ_max ≤ P; NaN otherwise.
+double ShearAngle(double max_shear, double pressure) {
+  return pressure > 0.0 && max_shear <= pressure ? std::asin(max_shear / pressure) : kNaN;
+}
+
 void ReduceForces(const PerturbationBase& base, const PerturbationResult& result,
                   const ResponseLayout& layout, ReducedResponse& out) {
   std::vector<double> r, change;
@@ -84,11 +98,8 @@ void ReduceForces(const PerturbationBase& base, const PerturbationResult& result
       change.push_back(std::abs(dn));
     }
     if (dn == 0.0 && dt == 0.0) continue;
-    const Vec2 start =
-        MinimumImage(base.scene.cell, base.scene.particles[c.i].position - result.origin);
-    const Vec2 force = dn * c.normal + dt * Perp(c.normal);
     segments.push_back(
-        {ToFrame(result.axis, start), ToFrame(result.axis, c.branch), ToFrame(result.axis, force)});
+        FrameSegment(base.scene, c.i, c.branch, c.normal, dn, dt, result.origin, result.axis));
   }
   out.force_profile = BinMeans(r, change, layout);
   const StressGrid grid = CoarseGrainedStress(layout.stress, segments);
@@ -154,10 +165,7 @@ void AddStaticStress(const PerturbationBase& base, const std::vector<const Reduc
     StressBox& box = out.stress[b];
     box.after = sum[b] / static_cast<double>(used.size()) + box.mean;
     box.pressure_after = Pressure(box.after);
-    const double shear = MaxShear(box.after);
-    box.shear_angle_after = box.pressure_after > 0.0 && shear <= box.pressure_after
-                                ? std::asin(shear / box.pressure_after)
-                                : kNaN;
+    box.shear_angle_after = ShearAngle(MaxShear(box.after), box.pressure_after);
   }
 }
 
@@ -186,34 +194,8 @@ void SummarizeFields(const std::vector<const ReducedResponse*>& used, const Resp
     box.center = layout.stress.BoxCenter(b);
     box.pressure_change = Pressure(box.mean);
     box.max_shear = MaxShear(box.mean);
-    const double p = std::abs(box.pressure_change);
-    box.shear_angle = box.max_shear <= p && p > 0.0 ? std::asin(box.max_shear / p) : kNaN;
+    box.shear_angle = ShearAngle(box.max_shear, std::abs(box.pressure_change));
   }
-}
-
-// |Σ d / Σ count| per box of the field grid over the records in [0, n) but [skip_begin,
-// skip_end), then averaged over the boxes of each radial bin.
-std::vector<LogBin> AveragedFieldProfile(const std::vector<const ReducedResponse*>& used,
-                                         const ResponseLayout& layout, std::size_t skip_begin,
-                                         std::size_t skip_end) {
-  const int boxes = layout.field.nx * layout.field.ny;
-  std::vector<double> r, magnitude;
-  for (int b = 0; b < boxes; ++b) {
-    Vec2 sum = Vec2::Zero();
-    int count = 0;
-    for (std::size_t k = 0; k < used.size(); ++k) {
-      if (k >= skip_begin && k < skip_end) continue;
-      sum += Vec2(used[k]->field[2 * b], used[k]->field[2 * b + 1]);
-      count += used[k]->field_count[b];
-    }
-    if (count == 0) continue;
-    r.push_back(layout.field.BoxCenter(b).norm());
-    magnitude.push_back((sum / count).norm());
-  }
-  std::vector<LogBin> bins =
-      LogBinned(r, magnitude, layout.profile_min, layout.profile_max, layout.bins_per_decade);
-  for (LogBin& bin : bins) bin.error = 0.0;  // the scatter over angles is no error of the mean
-  return bins;
 }
 
 // The paper's d(r) and α (EnsembleSummary::averaged_field_profile), with errors from a
@@ -222,24 +204,93 @@ std::vector<LogBin> AveragedFieldProfile(const std::vector<const ReducedResponse
 // how much they move when one block is left out.
 constexpr std::size_t kJackknifeBlocks = 20;
 
+// Per box of the field grid, Σ d/ξ and the particle count over some records.
+struct FieldSums {
+  std::vector<Vec2> sum;
+  std::vector<int> count;
+  explicit FieldSums(int boxes) : sum(boxes, Vec2::Zero()), count(boxes, 0) {}
+};
+
+// |mean d/ξ| per box with particles, averaged over the boxes of each radial bin (the
+// scatter over angles is no error of the mean: the errors are left at 0).
+std::vector<LogBin> MagnitudeProfile(const std::vector<Vec2>& mean, const std::vector<int>& count,
+                                     const ResponseLayout& layout) {
+  std::vector<double> r, magnitude;
+  for (std::size_t b = 0; b < count.size(); ++b) {
+    if (count[b] == 0) continue;
+    r.push_back(layout.field.BoxCenter(static_cast<int>(b)).norm());
+    magnitude.push_back(mean[b].norm());
+  }
+  std::vector<LogBin> bins =
+      LogBinned(r, magnitude, layout.profile_min, layout.profile_max, layout.bins_per_decade);
+  for (LogBin& bin : bins) bin.error = 0.0;
+  return bins;
+}
+
+// The jackknife standard error of a quantity from its leave-one-block-out replicates.
+double JackknifeError(const std::vector<double>& replicates) {
+  const double n = static_cast<double>(replicates.size());
+  if (n < 2) return 0.0;
+  double mean = 0.0, square = 0.0;
+  for (double x : replicates) mean += x / n;
+  for (double x : replicates) square += (x - mean) * (x - mean);
+  return std::sqrt((n - 1) / n * square);
+}
+
+// The profiles with one block of records left out each: the total minus the block's sums.
+std::vector<std::vector<LogBin>> LeaveOneBlockOut(const std::vector<const ReducedResponse*>& used,
+                                                  const ResponseLayout& layout) {
+  const std::size_t blocks = std::min(kJackknifeBlocks, used.size());
+  if (blocks < 2) return {};
+  const int boxes = layout.field.nx * layout.field.ny;
+  std::vector<FieldSums> block(blocks, FieldSums(boxes));
+  FieldSums total(boxes);
+  for (std::size_t j = 0; j < blocks; ++j) {
+    for (std::size_t k = j * used.size() / blocks; k < (j + 1) * used.size() / blocks; ++k) {
+      for (int b = 0; b < boxes; ++b) {
+        block[j].sum[b] += Vec2(used[k]->field[2 * b], used[k]->field[2 * b + 1]);
+        block[j].count[b] += used[k]->field_count[b];
+      }
+    }
+  }
+  for (const FieldSums& one : block) {
+    for (int b = 0; b < boxes; ++b) {
+      total.sum[b] += one.sum[b];
+      total.count[b] += one.count[b];
+    }
+  }
+  std::vector<std::vector<LogBin>> out;
+  for (const FieldSums& one : block) {
+    std::vector<Vec2> mean(boxes, Vec2::Zero());
+    std::vector<int> count(boxes, 0);
+    for (int b = 0; b < boxes; ++b) {
+      count[b] = total.count[b] - one.count[b];
+      if (count[b] > 0) mean[b] = (total.sum[b] - one.sum[b]) / count[b];
+    }
+    out.push_back(MagnitudeProfile(mean, count, layout));
+  }
+  return out;
+}
+
+// The full profile from the ensemble's field (SummarizeFields), its errors and α's from the
+// leave-one-block-out profiles.
 void SummarizeAveragedFieldDecay(const std::vector<const ReducedResponse*>& used,
                                  const ResponseLayout& layout, double fit_min, double fit_max,
                                  EnsembleSummary& out) {
-  out.averaged_field_profile = AveragedFieldProfile(used, layout, 0, 0);
-  const std::size_t blocks = std::min(kJackknifeBlocks, used.size());
-  std::vector<std::vector<LogBin>> left_out;
-  for (std::size_t j = 0; blocks >= 2 && j < blocks; ++j) {
-    left_out.push_back(AveragedFieldProfile(used, layout, j * used.size() / blocks,
-                                            (j + 1) * used.size() / blocks));
+  std::vector<Vec2> mean;
+  std::vector<int> count;
+  for (const FieldBox& box : out.field) {
+    mean.push_back(box.mean);
+    count.push_back(box.count);
   }
+  out.averaged_field_profile = MagnitudeProfile(mean, count, layout);
+  std::vector<std::vector<LogBin>> left_out = LeaveOneBlockOut(used, layout);
   // Bin errors first (FitPowerLaw weights by them), then α's from the refits.
   std::vector<LogBin>& bins = out.averaged_field_profile;
-  const double factor = blocks >= 2 ? static_cast<double>(blocks - 1) / blocks : 0.0;
   for (std::size_t b = 0; b < bins.size(); ++b) {
-    double mean = 0.0, square = 0.0;
-    for (const std::vector<LogBin>& p : left_out) mean += p[b].mean / left_out.size();
-    for (const std::vector<LogBin>& p : left_out) square += (p[b].mean - mean) * (p[b].mean - mean);
-    bins[b].error = std::sqrt(factor * square);
+    std::vector<double> replicates;
+    for (const std::vector<LogBin>& p : left_out) replicates.push_back(p[b].mean);
+    bins[b].error = JackknifeError(replicates);
   }
   out.decay = FitPowerLaw(bins, fit_min, fit_max);
   if (left_out.empty() || out.decay.points < 3) return;
@@ -248,10 +299,7 @@ void SummarizeAveragedFieldDecay(const std::vector<const ReducedResponse*>& used
     for (std::size_t b = 0; b < p.size(); ++b) p[b].error = bins[b].error;
     alphas.push_back(FitPowerLaw(p, fit_min, fit_max).alpha);
   }
-  double mean = 0.0, square = 0.0;
-  for (double a : alphas) mean += a / alphas.size();
-  for (double a : alphas) square += (a - mean) * (a - mean);
-  out.decay.alpha_error = std::sqrt(factor * square);
+  out.decay.alpha_error = JackknifeError(alphas);
 }
 
 }  // namespace
@@ -312,10 +360,8 @@ std::vector<Eigen::Matrix2d> StaticStressInFrame(const PerturbationBase& base, V
     const Contact& c = base.contacts[a];
     const double fn = base.forces[a][0], ft = base.forces[a][1];
     if (fn == 0.0 && ft == 0.0) continue;
-    const Vec2 start = MinimumImage(base.scene.cell, base.scene.particles[c.i].position - origin);
-    const Vec2 force = fn * c.normal + ft * Perp(c.normal);
     segments.push_back(
-        {ToFrame(axis, start), ToFrame(axis, c.center_to_center), ToFrame(axis, force)});
+        FrameSegment(base.scene, c.i, c.center_to_center, c.normal, fn, ft, origin, axis));
   }
   return CoarseGrainedStress(layout.stress, segments).stress;
 }

@@ -63,19 +63,21 @@ ContactLayout LayoutOf(const DelassusProblem& p) {
   return layout;
 }
 
-std::string AsymmetryOf(const DelassusProblem& p) {
-  const Eigen::SparseMatrix<double> transpose = p.w.transpose();
-  const Eigen::SparseMatrix<double> difference = p.w - transpose;
+namespace {
+double LargestMagnitude(const Eigen::SparseMatrix<double>& m) {
   double largest = 0.0;
-  for (int col = 0; col < p.w.outerSize(); ++col) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(p.w, col); it; ++it)
+  for (int col = 0; col < m.outerSize(); ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m, col); it; ++it)
       largest = std::max(largest, std::abs(it.value()));
   }
-  double worst = 0.0;
-  for (int col = 0; col < difference.outerSize(); ++col) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(difference, col); it; ++it)
-      worst = std::max(worst, std::abs(it.value()));
-  }
+  return largest;
+}
+}  // namespace
+
+std::string AsymmetryOf(const DelassusProblem& p) {
+  const Eigen::SparseMatrix<double> transpose = p.w.transpose();
+  const double largest = LargestMagnitude(p.w);
+  const double worst = LargestMagnitude(p.w - transpose);
   if (worst <= kSymmetryTolerance * largest) return "";
   char buf[160];
   std::snprintf(buf, sizeof buf,
@@ -89,11 +91,7 @@ std::string AsymmetryOf(const DelassusProblem& p) {
 std::string IndefinitenessOf(const DelassusProblem& p) {
   const Eigen::SparseMatrix<double> transpose = p.w.transpose();
   Eigen::SparseMatrix<double> shifted = 0.5 * (p.w + transpose);
-  double largest = 0.0;
-  for (int col = 0; col < shifted.outerSize(); ++col) {
-    for (Eigen::SparseMatrix<double>::InnerIterator it(shifted, col); it; ++it)
-      largest = std::max(largest, std::abs(it.value()));
-  }
+  const double largest = LargestMagnitude(shifted);
   if (largest == 0.0) return "";
   Eigen::SparseMatrix<double> identity(shifted.rows(), shifted.cols());
   identity.setIdentity();
