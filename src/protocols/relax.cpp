@@ -176,6 +176,12 @@ Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce
     const StaticSolution s = SolveStatic(start, StaticOptions(o, chunk));
     out.sweeps += s.report.iterations;
     start.forces = ToContactForces(s);
+    // A converged step in which a grain still falls (an exact one: the polish on its
+    // pattern, pattern_polish.hpp) shows the fall at once.
+    if (s.report.converged() && s.max_speed > falling) {
+      out.still_moving = true;
+      break;
+    }
     if (s.report.converged() || s.report.iterations < chunk) break;
     if (s.max_speed > falling && s.max_speed > 0.9 * previous) {
       out.still_moving = true;

@@ -10,6 +10,7 @@
 #include "unjam/problem/contact_problem.hpp"
 #include "unjam/protocols/static_solve.hpp"
 #include "unjam/protocols/stored_problem.hpp"
+#include "unjam/solvers/pattern_polish.hpp"
 #include "unjam/solvers/residual.hpp"
 #include "unjam/stepping/simulation.hpp"
 
@@ -39,14 +40,18 @@ struct Solved {
 
 // A scene's static step from zero impulses (as `unjam compare` poses it), with the report
 // SolutionOf gives (a prescribed motion into a fixed body is not converged, named).
-Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOptions& solver) {
+Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOptions& solver,
+                  bool polish) {
   StaticSolveOptions o;
   o.backend = backend;
   o.solver = solver;
   StaticProblem posed = PoseStaticProblem(scene, o);
   posed.assembled.problem.initial_guess.resize(0);
   const ContactProblem& problem = posed.assembled.problem;
-  const SolveResult result = MakeSolver(backend)->Solve(problem, solver);
+  // As `unjam solve` gives it: the backend's answer, solved exactly on its pattern where
+  // that helps (pattern_polish.hpp).
+  SolveResult result = MakeSolver(backend)->Solve(problem, solver);
+  if (polish) result = PolishOnPattern(problem, result, solver.tolerance);
   Solved out;
   out.impulses = result.impulses;
   double residual = result.report.residual;
@@ -79,10 +84,10 @@ Solved SolveStored(const DelassusProblem& problem, const std::string& backend,
   return out;
 }
 
-Solved SolveCase(const StabilityCase& c, const std::string& backend, const SolverOptions& solver) {
+Solved SolveCase(const StabilityCase& c, const std::string& backend, const StabilityOptions& o) {
   if (const Scene* scene = std::get_if<Scene>(&c.problem))
-    return SolveScene(*scene, backend, solver);
-  return SolveStored(std::get<DelassusProblem>(c.problem), backend, solver);
+    return SolveScene(*scene, backend, o.solver, o.polish);
+  return SolveStored(std::get<DelassusProblem>(c.problem), backend, o.solver);
 }
 
 bool AtRest(const Scene& s) {
@@ -208,8 +213,8 @@ std::vector<StabilityRow> CheckStability(const StabilityCase& c, const Stability
     StabilityRow row;
     row.name = c.name;
     row.backend = backend;
-    const Solved first = SolveCase(c, backend, o.solver);
-    const Solved again = SolveCase(c, backend, o.solver);
+    const Solved first = SolveCase(c, backend, o);
+    const Solved again = SolveCase(c, backend, o);
     row.contacts = first.contacts;
     row.report = first.report;
     row.siconos_error = first.siconos_error;

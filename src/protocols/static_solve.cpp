@@ -1,5 +1,7 @@
 #include "unjam/protocols/static_solve.hpp"
 
+#include "unjam/solvers/pattern_polish.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <utility>
@@ -110,6 +112,7 @@ StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options
 StaticSolution SolveStatic(const Scene& scene, StaticProblem posed,
                            const StaticSolveOptions& options) {
   SolveResult result = MakeSolver(options.backend)->Solve(posed.assembled.problem, options.solver);
+  result = PolishOnPattern(posed.assembled.problem, result, options.solver.tolerance);
   if (options.nearest_member) SelectNearestMember(posed.assembled.problem, options, result);
   return SolutionOf(scene, std::move(posed), result, options.dt);
 }

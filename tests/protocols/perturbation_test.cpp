@@ -138,29 +138,30 @@ TEST(Perturbation, LiftingADiskOfAColumnLiftsTheDiskAbove) {
   EXPECT_LT((r.displacement[2] - Vec2(0.0, o.gap)).norm(), 1e-3 * o.gap);
 }
 
-// A step the first backend leaves unresolved (NSGS stopped after 10 sweeps, on an opening
-// of the frictionless packing) is solved again by the fallback, whose answer is the one
-// kept and checked at 10ξ: F_crit = F_cont plus the inertial part, as newton alone gives.
-// The first backend's account stays in the message.
+// A step the first backend leaves unresolved (newton allowed no Newton step, on an opening
+// of the μ = 0.5 packing, where the pattern of its NSGS warm-up is too far off for the
+// polish) is solved again by the fallback, whose answer is the one kept, with the first
+// backend's account in the message. (On the frictionless packing the polish alone
+// resolves such a step.)
 TEST(Perturbation, TheFallbackSolvesWhatTheFirstBackendLeaves) {
   const Scene scene =
-      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.unjam");
+      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
-  o.backend = "nsgs";
-  o.solver.max_iterations = 10;
+  o.backend = "newton";
+  o.solver.newton_max_iterations = 0;
   o.fallback = "none";
+  o.check_linearity = false;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationTarget opening = SampleTargets(ContactTargets(base), 1, 3).at(0);
   const PerturbationResult alone = Perturb(base, opening, o);
   ASSERT_FALSE(alone.resolved)
-      << "10 NSGS sweeps resolved the step: the test needs a failing first backend";
-  o.fallback = "newton";
+      << "newton without a Newton step resolved it: the test needs a failing first backend";
+  o.fallback = "lemke";
   const PerturbationResult r = Perturb(base, opening, o);
-  ASSERT_EQ(r.status, "ok") << r.solve.message;
-  EXPECT_EQ(r.solve.backend, "newton");
-  EXPECT_EQ(r.solve.message.rfind("after nsgs: ", 0), 0u) << r.solve.message;
-  EXPECT_NEAR(r.f_crit - r.f_reference, r.inertial_force, 1e-4 * r.inertial_force);
-  EXPECT_NEAR(r.fcrit_10xi, r.f_crit, 1e-3 * base.mean_contact_force);
+  ASSERT_TRUE(r.resolved) << r.solve.message;
+  EXPECT_EQ(r.solve.backend, "lemke");
+  EXPECT_EQ(r.solve.message.rfind("after newton: ", 0), 0u) << r.solve.message;
+  EXPECT_LE(r.solve.residual, 1e-14);
 }
 
 TEST(Perturbation, TheAutoFallbackIsIpoptAfterLemkeAndLemkeAfterNewton) {

@@ -73,13 +73,18 @@ TEST(StabilityCheck, AMotionIntoAWallIsReportedNeverSolved) {
 // Two walls through the origin 1e-6 rad apart, a disk touching both: the floor carries
 // the weight (torque balance makes the friction forces opposite, the cone then leaves the
 // tilted wall none). NSGS puts the weight on the tilted wall and lets the disk slide at
-// 6.7e-7 with a residual of 1e-12: the check must call that a failure, not a solution.
+// 6.7e-7 with a residual of 1e-12: audited as it is (no polish), the check must call that a
+// failure, not a solution; as `unjam solve` gives it (polished on its pattern), it is solved.
 TEST(StabilityCheck, CatchesAConvergedAnswerOutOfEquilibrium) {
   const Scene s =
       ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/near-coincident.unjam");
   StabilityOptions o;
   o.backends = {"nsgs"};
   o.steps = 0;
+  const StabilityRow polished = CheckStability({"near-coincident", s}, o).front();
+  EXPECT_EQ(polished.verdict, StabilityVerdict::kSolved) << polished.message;
+  EXPECT_LE(polished.equilibrium, 1e-14);
+  o.polish = false;
   const StabilityRow r = CheckStability({"near-coincident", s}, o).front();
   EXPECT_TRUE(r.report.converged());
   EXPECT_LE(r.report.residual, o.solver.tolerance);

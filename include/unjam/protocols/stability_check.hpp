@@ -37,6 +37,10 @@ struct StabilityOptions {
   // this (max net force on a grain / mean contact force) is a silent failure: the residual
   // claimed the tolerance, the forces are wrong (an ill-conditioned case).
   double equilibrium_tolerance = kStaticEquilibriumTolerance;
+  // The static solve as `unjam solve` gives it: the backend's answer solved exactly on its
+  // contact pattern where that helps (solvers/pattern_polish.hpp). Off: the backend's own
+  // answer, to audit a backend as it is.
+  bool polish = true;
 };
 
 enum class StabilityVerdict {

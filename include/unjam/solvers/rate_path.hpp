@@ -32,6 +32,8 @@
 
 #include <Eigen/Core>
 
+#include "unjam/solvers/pattern_polish.hpp"
+
 namespace unjam {
 
 // One closed contact of the rate problem: its rows of the basis (normal, tangential; −1
@@ -69,8 +71,6 @@ enum class RatePathEnd {
   kSingular,       // a piece's linear system lost rank
 };
 const char* ToString(RatePathEnd end);
-
-enum class ContactState : unsigned char { kStick, kSlidePositive, kSlideNegative, kOpen };
 
 struct RatePathResult {
   RatePathEnd end = RatePathEnd::kStalled;

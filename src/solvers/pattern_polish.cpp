@@ -1,0 +1,204 @@
+#include "unjam/solvers/pattern_polish.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <Eigen/SparseCore>
+#include <Eigen/UmfPackSupport>
+
+#include "unjam/problem/kinematics.hpp"
+#include "unjam/solvers/residual.hpp"
+
+namespace unjam {
+
+SolveResult SolveOnStates(const ContactProblem& p, const Eigen::VectorXd& start,
+                          const std::vector<ContactState>& states) {
+  using Triplet = Eigen::Triplet<double>;
+  const int stride = p.UnknownsPerContact();
+  Eigen::VectorXd impulses = start;
+  // The impulses that move the grains: one column per force component the contact's state
+  // leaves free, and one velocity row each.
+  std::vector<Triplet> e;  // contact unknowns × force components
+  std::vector<int> velocity_rows;
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    const ProblemContact& c = p.contacts[static_cast<std::size_t>(k)];
+    const int col = static_cast<int>(velocity_rows.size());
+    if (c.kind == ConstraintKind::kBilateral) {
+      if (stride == 2 && c.mu == 0.0) impulses[k * stride + 1] = 0.0;
+      e.emplace_back(k * stride, col, 1.0);
+      velocity_rows.push_back(k * stride);
+      continue;
+    }
+    const ContactState s = states[static_cast<std::size_t>(k)];
+    if (s == ContactState::kOpen) {  // exactly no force, not a rounding of zero
+      for (int d = 0; d < stride; ++d) impulses[k * stride + d] = 0.0;
+      continue;
+    }
+    if (s == ContactState::kStick || stride == 1) {
+      for (int d = 0; d < stride; ++d) {
+        e.emplace_back(k * stride + d, static_cast<int>(velocity_rows.size()), 1.0);
+        velocity_rows.push_back(k * stride + d);
+      }
+      continue;
+    }
+    const double sigma = s == ContactState::kSlidePositive ? 1.0 : -1.0;
+    impulses[k * stride + 1] = -sigma * c.mu * impulses[k * stride];  // on the edge exactly
+    e.emplace_back(k * stride, col, 1.0);
+    e.emplace_back(k * stride + 1, col, -sigma * c.mu);
+    velocity_rows.push_back(k * stride);
+  }
+  const int dofs = p.NumDofs(), comps = static_cast<int>(velocity_rows.size());
+  Eigen::SparseMatrix<double> e_matrix(p.NumUnknowns(), comps);
+  e_matrix.setFromTriplets(e.begin(), e.end());
+  const Eigen::SparseMatrix<double> h = AssembleJacobian(p);
+  const Eigen::SparseMatrix<double> hte = h.transpose() * e_matrix;
+  const Eigen::VectorXd inv_mass = InverseMassDiagonal(p);
+  const Eigen::VectorXd offset = VelocityOffset(p);
+
+  // [ M   −HᵀE ] [v]   [M v_free + Hᵀ r]
+  // [ H_s  −εI ] [λ] = [ −offset_s ]      (ε only fixes λ along the pattern's self-stresses)
+  std::vector<Triplet> a;
+  for (int d = 0; d < dofs; ++d) a.emplace_back(d, d, 1.0 / inv_mass[d]);
+  for (int col = 0; col < hte.outerSize(); ++col) {
+    for (Eigen::SparseMatrix<double>::InnerIterator it(hte, col); it; ++it)
+      a.emplace_back(static_cast<int>(it.row()), dofs + col, -it.value());
+  }
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> h_rows = h;
+  Eigen::VectorXd rhs(dofs + comps);
+  const Eigen::VectorXd v_free = FreeVelocityVector(p);
+  rhs.head(dofs) = v_free.cwiseQuotient(inv_mass) + h.transpose() * impulses;
+  double mass_scale = 0.0;
+  for (int d = 0; d < dofs; ++d) mass_scale = std::max(mass_scale, 1.0 / inv_mass[d]);
+  const double regularisation = 1e-14 * mass_scale;
+  for (int r = 0; r < comps; ++r) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(
+             h_rows, velocity_rows[static_cast<std::size_t>(r)]);
+         it; ++it) {
+      a.emplace_back(dofs + r, static_cast<int>(it.col()), it.value());
+    }
+    a.emplace_back(dofs + r, dofs + r, -regularisation);
+    rhs[dofs + r] = -offset[velocity_rows[static_cast<std::size_t>(r)]];
+  }
+  Eigen::SparseMatrix<double> system(dofs + comps, dofs + comps);
+  system.setFromTriplets(a.begin(), a.end());
+  SolveResult out;
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu(system);
+  if (lu.info() != Eigen::Success) {
+    out.impulses = impulses;
+    out.report.status = SolveStatus::kNumericalFailure;
+    out.report.message = "the step on the pattern: singular system";
+    out.report.residual = ComputeResidual(p, impulses).residual;
+    return out;
+  }
+  // Proximal-point refinement: each solve shifts the regularisation to the last λ, so the
+  // iterates solve the unregularised system wherever it has a solution, and ε only picks
+  // λ along the pattern's self-stresses.
+  const Eigen::VectorXd velocity_rhs = rhs.tail(comps);
+  Eigen::VectorXd x = lu.solve(rhs);
+  for (int round = 0; round < 8; ++round) {
+    rhs.tail(comps) = velocity_rhs - regularisation * x.tail(comps);
+    const Eigen::VectorXd next = lu.solve(rhs);
+    const double change = (next - x).tail(comps).lpNorm<Eigen::Infinity>();
+    x = next;
+    if (!(change > 1e-15 * std::max(1.0, x.tail(comps).lpNorm<Eigen::Infinity>()))) break;
+  }
+  out.impulses = impulses + e_matrix * x.tail(comps);
+  out.report.residual = ComputeResidual(p, out.impulses).residual;
+  out.report.status = SolveStatus::kConverged;
+  return out;
+}
+
+bool CorrectStates(const ContactProblem& p, const SolveResult& r, const std::vector<char>& frozen,
+                   std::vector<ContactState>& states) {
+  const int stride = p.UnknownsPerContact();
+  const Eigen::VectorXd u = PosedContactVelocity(p, r.impulses);
+  double scale = 0.0;
+  for (int k = 0; k < p.NumContacts(); ++k)
+    scale = std::max(scale, std::abs(r.impulses[stride * k]));
+  const double tol = 1e-15 * std::max(scale, 1e-300);
+  // A slip this small next to the answer's largest contact velocity is none: the contact
+  // sits on the edge of its cone without turning back.
+  const double slip_tol = 1e-12 * std::max(u.lpNorm<Eigen::Infinity>(), 1e-300);
+  bool changed = false;
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    if (frozen[static_cast<std::size_t>(k)] != 0 ||
+        p.contacts[static_cast<std::size_t>(k)].kind == ConstraintKind::kBilateral)
+      continue;
+    ContactState& s = states[static_cast<std::size_t>(k)];
+    const double mu = p.contacts[static_cast<std::size_t>(k)].mu;
+    const double rn = r.impulses[stride * k], rt = stride == 2 ? r.impulses[2 * k + 1] : 0.0;
+    const ContactState before = s;
+    if (s == ContactState::kStick) {
+      if (rn < -tol) s = ContactState::kOpen;
+      else if (mu * rn - rt < -tol) s = ContactState::kSlideNegative;
+      else if (mu * rn + rt < -tol) s = ContactState::kSlidePositive;
+    } else if (s == ContactState::kOpen) {
+      if (u[stride * k] < 0.0) s = ContactState::kStick;
+    } else {
+      const double sigma = s == ContactState::kSlidePositive ? 1.0 : -1.0;
+      if (rn < -tol) s = ContactState::kOpen;
+      else if (sigma * u[2 * k + 1] < -slip_tol) s = ContactState::kStick;
+    }
+    changed = changed || s != before;
+  }
+  return changed;
+}
+
+SolveResult SolveOnPattern(const ContactProblem& p, const Eigen::VectorXd& impulses,
+                           std::vector<ContactState> states, const std::vector<char>& frozen,
+                           int rounds) {
+  SolveResult out = SolveOnStates(p, impulses, states);
+  for (int round = 0;
+       round < rounds && out.report.converged() && CorrectStates(p, out, frozen, states); ++round) {
+    out = SolveOnStates(p, impulses, states);
+  }
+  return out;
+}
+
+std::vector<ContactState> StatesOf(const ContactProblem& p, const Eigen::VectorXd& impulses) {
+  const int stride = p.UnknownsPerContact();
+  const Eigen::VectorXd u = PosedContactVelocity(p, impulses);
+  std::vector<ContactState> states(static_cast<std::size_t>(p.NumContacts()), ContactState::kOpen);
+  for (int k = 0; k < p.NumContacts(); ++k) {
+    const double rho = ResidualWeight(p, k);
+    const double closing = impulses[stride * k] - rho * u[stride * k];
+    if (!(closing > 0.0)) continue;
+    ContactState& s = states[static_cast<std::size_t>(k)];
+    s = ContactState::kStick;
+    if (stride == 1) continue;
+    const double trial = impulses[2 * k + 1] - rho * u[2 * k + 1];
+    const double limit = p.contacts[static_cast<std::size_t>(k)].mu * closing;
+    // The friction opposes the slip: r_t = −μ r_n for a positive slip.
+    if (trial < -limit) s = ContactState::kSlidePositive;
+    else if (trial > limit) s = ContactState::kSlideNegative;
+  }
+  return states;
+}
+
+SolveResult PolishOnPattern(const ContactProblem& p, const SolveResult& approximate,
+                            double tolerance) {
+  // An answer at round-off has nothing to gain; a non-finite one has no pattern.
+  if (p.NumContacts() == 0 || !approximate.impulses.allFinite() ||
+      approximate.report.residual <= kRoundOffResidual)
+    return approximate;
+  const std::vector<char> frozen(static_cast<std::size_t>(p.NumContacts()), 0);
+  const SolveResult polished =
+      SolveOnPattern(p, approximate.impulses, StatesOf(p, approximate.impulses), frozen);
+  const double residual = polished.report.residual;
+  const bool usable = polished.report.converged() && polished.impulses.allFinite() &&
+                      residual < approximate.report.residual;
+  if (!usable || (!approximate.report.converged() && !(residual <= tolerance))) return approximate;
+  SolveResult out = approximate;
+  out.impulses = polished.impulses;
+  out.report.residual = residual;
+  out.report.status = SolveStatus::kConverged;
+  out.basis.clear();  // a pivoting backend's basis need not be the polished pattern's
+  char text[160];
+  std::snprintf(text, sizeof text, "solved exactly on its contact pattern: residual %.3g to %.3g",
+                approximate.report.residual, residual);
+  out.report.message += (out.report.message.empty() ? "" : "; ") + std::string(text);
+  return out;
+}
+
+}  // namespace unjam
