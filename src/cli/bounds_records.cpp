@@ -8,80 +8,66 @@
 #include <utility>
 
 #include "cli_common.hpp"
-#include "unjam/io/json_lines.hpp"
 #include "unjam/io/packing_file.hpp"
 
 namespace unjam::cli {
 
 namespace {
 constexpr const char* kOtherRun = "remove it or choose another --output";
+
+nlohmann::json BoundsHeader(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected,
+                            const BoundsOptions& o) {
+  return {{"unjam_bounds_records", 1},
+          {"packing", std::filesystem::path(f.file).filename().string()},
+          {"packing_fnv1a", FileFingerprint(f.file)},
+          {"contacts", f.contacts},
+          {"selected", selected},
+          {"ensemble_contacts", s.contacts.size()},
+          {"lp", f.lp},
+          {"warm_start", o.warm_start},
+          {"gap_tolerance", f.gap_tolerance},
+          {"lp_tolerance", o.lp_tolerance}};
+}
 }  // namespace
 
 BoundsRecords::BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected,
                              const BoundsOptions& o, int rank)
-    : base_(f.output + ".records.jsonl"), own_(RankPath(base_, rank)),
-      contacts_(static_cast<int>(s.contacts.size())),
-      header_({{"unjam_bounds_records", 1},
-               {"packing", std::filesystem::path(f.file).filename().string()},
-               {"packing_fnv1a", FileFingerprint(f.file)},
-               {"contacts", f.contacts},
-               {"selected", selected},
-               {"ensemble_contacts", s.contacts.size()},
-               {"lp", f.lp},
-               {"warm_start", o.warm_start},
-               {"gap_tolerance", f.gap_tolerance},
-               {"lp_tolerance", o.lp_tolerance}}) {
+    : contacts_(static_cast<int>(s.contacts.size())),
+      records_(f.output + ".records.jsonl", BoundsHeader(f, s, selected, o), rank, kOtherRun) {
   ReadAll();
   resumed_ = static_cast<long long>(known_.size());
   resumed_iterations_ = KnownIterations();
   resumed_shortcuts_ = KnownShortcuts();
-  log_ = AppendTo(own_, header_);
 }
 
 void BoundsRecords::Add(const BoundRecord& r) {
-  log_ << nlohmann::json{{"contact", r.contact},
-                         {"kind", ToString(r.kind)},
-                         {"status", ToString(r.bound.status)},
-                         {"value",
-                          r.bound.ok() ? nlohmann::json(r.bound.value) : nlohmann::json(nullptr)},
-                         {"iterations", r.iterations},
-                         {"shortcut", r.shortcut}}
-              .dump()
-       << '\n'
-       << std::flush;
-  if (!log_) throw OutputError(own_.string() + ": cannot append a bound");
+  records_.Append(
+      {{"contact", r.contact},
+       {"kind", ToString(r.kind)},
+       {"status", ToString(r.bound.status)},
+       {"value", r.bound.ok() ? nlohmann::json(r.bound.value) : nlohmann::json(nullptr)},
+       {"iterations", r.iterations},
+       {"shortcut", r.shortcut}});
   ++written_;
   written_iterations_ += r.iterations;
   written_shortcuts_ += r.shortcut ? 1 : 0;
 }
 
 void BoundsRecords::Merge() {
-  log_.close();
-  MergeRankFiles(base_, header_, kOtherRun);
+  records_.Merge();
   ReadAll();
   written_ = written_iterations_ = written_shortcuts_ = 0;
 }
 
-void BoundsRecords::Remove() {
-  log_.close();
-  // Rank files this run took back (an mpirun stopped before its merge, or one refused by
-  // another run's lock while a rank had solved its share) go with the rest.
-  MergeRankFiles(base_, header_, kOtherRun);
-  std::filesystem::remove(base_);
-}
+void BoundsRecords::Remove() { records_.Remove(); }
 
 // Every rank file's bounds (a bound recorded twice, by an mpirun interrupted while merging,
-// counts once); a torn last line of this process's own file is cut off.
+// counts once).
 void BoundsRecords::ReadAll() {
   std::map<std::pair<int, BoundKind>, BoundRecord> all;
-  for (const std::filesystem::path& path : RankFiles(base_)) {
-    const JsonLines file = ReadJsonLines(path);
-    RequireHeader(path, file.header, header_, kOtherRun);
-    if (path == own_) std::filesystem::resize_file(path, file.valid_bytes);
-    for (const auto& [line, j] : file.lines) {
-      const BoundRecord r = FromJson(path, j, line);
-      all[{r.contact, r.kind}] = r;
-    }
+  for (const RunRecords::Entry& e : records_.Entries()) {
+    const BoundRecord r = FromJson(e);
+    all[{r.contact, r.kind}] = r;
   }
   known_.clear();
   for (const auto& [key, r] : all) known_.push_back(r);
@@ -98,10 +84,10 @@ long long BoundsRecords::KnownShortcuts() const {
                        [](const BoundRecord& r) { return r.shortcut; });
 }
 
-BoundRecord BoundsRecords::FromJson(const std::filesystem::path& path, const nlohmann::json& j,
-                                    int line) const {
+BoundRecord BoundsRecords::FromJson(const RunRecords::Entry& e) const {
+  const nlohmann::json& j = e.record;
   auto bad = [&](const std::string& why) {
-    return InputError(path.string(), line, "bad bound record: " + why);
+    return InputError(e.file.string(), e.line, "bad bound record: " + why);
   };
   BoundRecord r;
   try {

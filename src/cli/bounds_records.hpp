@@ -7,13 +7,13 @@
 
 #include <cstddef>
 #include <filesystem>
-#include <fstream>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "command_bounds.hpp"
 #include "unjam/indeterminacy/force_bounds.hpp"
+#include "unjam/io/run_records.hpp"
 
 namespace unjam::cli {
 
@@ -24,7 +24,7 @@ class BoundsRecords {
   BoundsRecords(const BoundsFlags& f, const EquilibriumSystem& s, std::size_t selected,
                 const BoundsOptions& o, int rank);
   const std::vector<BoundRecord>& Known() const { return known_; }
-  const std::filesystem::path& Path() const { return base_; }
+  const std::filesystem::path& Path() const { return records_.Path(); }
   // Called one at a time (BoundsOptions::on_bound). Throws OutputError if it cannot write.
   void Add(const BoundRecord& r);
   // Rank 0, once every rank is done: the ranks' records in one file, and all of them known.
@@ -47,12 +47,10 @@ class BoundsRecords {
   void ReadAll();
   long long KnownIterations() const;
   long long KnownShortcuts() const;
-  BoundRecord FromJson(const std::filesystem::path& path, const nlohmann::json& j, int line) const;
+  BoundRecord FromJson(const RunRecords::Entry& e) const;
 
-  std::filesystem::path base_, own_;
   int contacts_;
-  nlohmann::json header_;
-  std::ofstream log_;
+  RunRecords records_;
   std::vector<BoundRecord> known_;
   long long resumed_ = 0, resumed_iterations_ = 0, resumed_shortcuts_ = 0;
   long long written_ = 0, written_iterations_ = 0, written_shortcuts_ = 0;

@@ -21,6 +21,7 @@
 #include "unjam/io/packing_file.hpp"
 #include "unjam/io/particle_export.hpp"
 #include "unjam/io/response_records.hpp"
+#include "unjam/io/run_records.hpp"
 #include "unjam/protocols/perturbation.hpp"
 #include "unjam/protocols/response_ensemble.hpp"
 #include "unjam/solvers/contact_solver.hpp"
@@ -258,33 +259,6 @@ const std::vector<std::string> kOutputFiles = {
 // the records file it alone writes, so that the ranks of one mpirun do not refuse each other.
 std::filesystem::path LockPath(const std::filesystem::path& dir, int rank) {
   return RankPath(dir / ".lock", rank);
-}
-
-// The records file rank r of an mpirun writes: records.jsonl for rank 0 (and a run without
-// MPI), records.rank<r>.jsonl for the others, merged into records.jsonl at the end.
-std::filesystem::path RecordsPath(const std::filesystem::path& dir, int rank) {
-  return RankPath(dir / "records.jsonl", rank);
-}
-
-RecordsFile ReadRecordsOf(const std::filesystem::path& records, const nlohmann::json& header) {
-  RecordsFile file = ReadRecords(records);
-  RequireHeader(records, file.header, header, kOtherRun);
-  return file;
-}
-
-// Records already on disk with the same header, by target index, from every records file
-// in `dir`; a torn last line of this process's own file (`own`) is cut off. A target
-// recorded twice (an mpirun interrupted while merging) counts once.
-std::map<int, ReducedResponse> Resume(const std::filesystem::path& dir,
-                                      const nlohmann::json& header,
-                                      const std::filesystem::path& own) {
-  std::map<int, ReducedResponse> done;
-  for (const std::filesystem::path& path : RankFiles(RecordsPath(dir, 0))) {
-    RecordsFile file = ReadRecordsOf(path, header);
-    if (path == own) std::filesystem::resize_file(path, file.valid_bytes);  // drop a torn last line
-    for (auto& [index, record] : file.records) done.emplace(index, std::move(record));
-  }
-  return done;
 }
 
 std::string TargetName(const PerturbationTarget& t) {
@@ -625,16 +599,15 @@ int RunPerturb(const PerturbFlags& f) {
   const std::filesystem::path dir = f.output_dir;
   const nlohmann::json header = Header(f, selection, options, base);
   std::map<int, ReducedResponse> records;
-  std::ofstream log;
+  std::optional<RunRecords> run;   // -o DIR: the records, this rank's appended as they come
   std::optional<OutputLock> lock;  // held until every output is written
   if (!f.output_dir.empty()) {
     std::filesystem::create_directories(dir);
     lock.emplace(LockPath(dir, rank), dir.string());
-    const std::filesystem::path own = RecordsPath(dir, rank);
-    records = Resume(dir, header, own);
-    log = AppendTo(own, header);
+    run.emplace(dir / "records.jsonl", header, rank, kOtherRun);
+    records = RecordsByIndex(run->Entries());
   }
-  const bool refill_first = log.is_open() && records.count(0) > 0 && FullFieldMissing(dir);
+  const bool refill_first = run.has_value() && records.count(0) > 0 && FullFieldMissing(dir);
   const PendingTargets pending = Pending(selection, records, refill_first, rank, ranks);
   if (!f.quiet && !records.empty())
     std::fprintf(stderr, "perturb: resuming, %zu of %zu done\n", records.size(),
@@ -655,26 +628,26 @@ int RunPerturb(const PerturbFlags& f) {
     const int k = pending.index[t];
     // The fields first, each file atomically: once perturbation 0 is recorded, a rerun
     // solves it again only if they are missing.
-    if (log.is_open() && k == 0) WriteFullField(dir, base, r);
+    if (run && k == 0) WriteFullField(dir, base, r);
     if (records.count(k) > 0) return;  // solved again for its fields alone
     ReducedResponse record = Reduce(base, r, layout, ensemble);
-    if (log.is_open()) {
+    if (run) {
       nlohmann::json line = ToJson(record);
       line["index"] = k;
-      log << line.dump() << '\n' << std::flush;
+      run->Append(line);
     }
     if (!f.quiet) PrintProgress(r, static_cast<int>(records.size()) + 1, total, rank, ranks);
     records.emplace(k, std::move(record));
   });
-  if (log.is_open()) log.close();
+  if (run) run->Close();
   if (ranks > 1) {
     // Every rank's share is recorded (or a rank failed: then all end with its code).
     const int worst = mpi->WorstStatus(kOk);
     if (worst != kOk || rank != 0) return worst;
   }
-  if (!f.output_dir.empty() && RankFiles(RecordsPath(dir, 0)).size() > 1) {
-    MergeRankFiles(RecordsPath(dir, 0), header, kOtherRun);
-    records = Resume(dir, header, RecordsPath(dir, 0));
+  if (run && run->HasRankFiles()) {
+    run->Merge();
+    records = RecordsByIndex(run->Entries());
   }
   std::vector<ReducedResponse> ordered;
   for (const auto& [k, r] : records) ordered.push_back(r);

@@ -119,17 +119,12 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
   }
 }
 
-RecordsFile ReadRecords(const std::filesystem::path& path) {
-  JsonLines file = ReadJsonLines(path);
-  RecordsFile out;
-  out.header = std::move(file.header);
-  out.valid_bytes = file.valid_bytes;
-  for (const auto& [line, j] : file.lines) {
-    if (!j.contains("index") || !j["index"].is_number_integer())
-      throw InputError(path.string(), line, "record without an integer \"index\"");
-    out.records.emplace_back(
-        j["index"].get<int>(),
-        ReducedResponseFromJson(j, path.string() + ":" + std::to_string(line)));
+std::map<int, ReducedResponse> RecordsByIndex(const std::vector<RunRecords::Entry>& entries) {
+  std::map<int, ReducedResponse> out;
+  for (const RunRecords::Entry& e : entries) {
+    if (!e.record.contains("index") || !e.record["index"].is_number_integer())
+      throw InputError(e.file.string(), e.line, "record without an integer \"index\"");
+    out.emplace(e.record["index"].get<int>(), ReducedResponseFromJson(e.record, e.Where()));
   }
   return out;
 }

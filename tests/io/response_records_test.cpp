@@ -54,26 +54,48 @@ TEST(ResponseRecords, RoundTripIsExact) {
 
 TEST(ResponseRecords, TornLastLineIsDroppedAndBadLinesNamed) {
   const auto path = std::filesystem::temp_directory_path() / "unjam_records_test.jsonl";
+  const nlohmann::json header = {{"header", 1}};
   nlohmann::json line = ToJson(SomeRecord());
   line["index"] = 3;
   {
     std::ofstream out(path);
-    out << R"({"header": 1})" << '\n' << line.dump() << '\n' << R"({"index": 4, "f_cr)";
+    out << header.dump() << '\n' << line.dump() << '\n' << R"({"index": 4, "f_cr)";
   }
-  const RecordsFile file = ReadRecords(path);
-  EXPECT_EQ(file.header["header"], 1);
-  ASSERT_EQ(file.records.size(), 1u);
-  EXPECT_EQ(file.records[0].first, 3);
-  EXPECT_LT(file.valid_bytes, std::filesystem::file_size(path));
+  {
+    RunRecords run(path, header, 0, "remedy");
+    const std::map<int, ReducedResponse> records = RecordsByIndex(run.Entries());
+    ASSERT_EQ(records.size(), 1u);
+    EXPECT_EQ(records.begin()->first, 3);
+  }
+  // The torn line is cut off the run's own file before it appends.
+  std::ifstream in(path);
+  std::string first, second, third;
+  std::getline(in, first);
+  std::getline(in, second);
+  EXPECT_FALSE(std::getline(in, third));
   {
     std::ofstream out(path);
-    out << R"({"header": 1})" << '\n' << R"({"index": 4})" << '\n';
+    out << header.dump() << '\n' << R"({"index": 4})" << '\n';
   }
   try {
-    ReadRecords(path);
+    RunRecords run(path, header, 0, "remedy");
+    RecordsByIndex(run.Entries());
     FAIL() << "a record without fields was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(":2"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+// A records file of other parameters is refused, naming it and the remedy.
+TEST(ResponseRecords, ARunOfOtherParametersIsRefused) {
+  const auto path = std::filesystem::temp_directory_path() / "unjam_records_other.jsonl";
+  { RunRecords run(path, {{"run", 1}}, 0, "remedy"); }
+  try {
+    RunRecords run(path, {{"run", 2}}, 0, "choose another");
+    FAIL() << "records of another run were taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("choose another"), std::string::npos) << e.what();
   }
   std::filesystem::remove(path);
 }
