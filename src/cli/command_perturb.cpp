@@ -180,29 +180,24 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   return o;
 }
 
-// The backends' own options that change their answers, each only when not its default, so
-// that records written before they were kept here (all with the defaults) still resume.
-void AddNonDefaultBackendOptions(const SolverOptions& o, nlohmann::json& header) {
-  const SolverOptions defaults;
-  if (o.lemke_pivots_per_row > 0) header["lemke_pivots_per_row"] = o.lemke_pivots_per_row;
-  if (o.lemke_box_rate_first) header["lemke_box_first"] = true;
-  if (o.lemke_warm_start) header["lemke_warm"] = true;
-  if (o.newton_max_iterations != defaults.newton_max_iterations)
-    header["newton_iterations"] = o.newton_max_iterations;
-  if (o.newton_warmup_tolerance != defaults.newton_warmup_tolerance)
-    header["warmup_tol"] = o.newton_warmup_tolerance;
-  if (o.ipopt_max_iterations != defaults.ipopt_max_iterations)
-    header["ipopt_iterations"] = o.ipopt_max_iterations;
-  if (o.nlopt_algorithm != defaults.nlopt_algorithm)
-    header["nlopt_algorithm"] = ToString(o.nlopt_algorithm);
-  if (o.nlopt_max_evaluations != defaults.nlopt_max_evaluations)
-    header["nlopt_evaluations"] = o.nlopt_max_evaluations;
-  if (o.convex_relaxation) header["convex_relaxation"] = true;
+// The backends' own options that change their answers.
+void AddBackendOptions(const SolverOptions& o, nlohmann::json& header) {
+  header["lemke_pivots_per_row"] = o.lemke_pivots_per_row;
+  header["lemke_box_first"] = o.lemke_box_rate_first;
+  header["lemke_warm"] = o.lemke_warm_start;
+  header["newton_iterations"] = o.newton_max_iterations;
+  header["warmup_tol"] = o.newton_warmup_tolerance;
+  header["ipopt_iterations"] = o.ipopt_max_iterations;
+  header["nlopt_algorithm"] = ToString(o.nlopt_algorithm);
+  header["nlopt_evaluations"] = o.nlopt_max_evaluations;
+  header["convex_relaxation"] = o.convex_relaxation;
 }
 
+// Every parameter that changes a record: records of a run with another value of any of
+// them are refused, naming it (RequireHeader).
 nlohmann::json Header(const PerturbFlags& f, const Selection& s, const PerturbationOptions& o,
                       const PerturbationBase& base) {
-  nlohmann::json header = {{"unjam_perturb_records", 1},
+  nlohmann::json header = {{"unjam_perturb_records", 2},
                            {"packing", std::filesystem::path(f.file).filename().string()},
                            {"packing_fnv1a", FileFingerprint(f.file)},
                            {"selection", s.description},
@@ -215,33 +210,19 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
                            {"max_iterations", o.solver.max_iterations},
                            {"relaxation", o.solver.relaxation},
                            {"order", ToString(o.solver.sweep_order)},
-                           {"sweep_seed", o.solver.seed}};
-  // Only when on, so that records written before the option existed (all unchecked)
-  // still resume with --no-check-linearity, and checked ones written before the continued
-  // check (all cold) with --cold-check.
-  if (o.check_linearity) header["check_linearity"] = true;
-  if (o.check_linearity && o.check_by_continuation) header["check_by_continuation"] = true;
-  // Only when there is one, so that records written before the fallback existed resume
-  // with --fallback none.
-  if (o.fallback != "none") header["fallback"] = o.fallback;
-  // Only when not the path's, for the same reason.
-  if (o.nearest_member) header["member"] = "nearest";
-  if (o.prefer_quasi_static) header["prefer_quasi_static"] = true;
-  // Only when on, so that records written before it existed resume without it.
-  if (o.dynamic_precheck) header["dynamic_lp"] = true;
-  AddNonDefaultBackendOptions(o.solver, header);
-  // Shifts only: the shifted particle's own displacement counts in d, δ and the fields;
-  // records without this key, where it did not, do not resume into these.
-  if (s.Shifts()) header["shifted_particle_displaced"] = true;
-  // The inertia ratio counts the grains, their spins and the cell. Records without this
-  // key hold a ratio without the spins and the cell, and another status where it crossed
-  // the threshold: they do not resume into these.
-  header["inertia_ratio_terms"] = "grains, spins, cell";
-  // Only for a backend whose answers have changed, for the same reason.
+                           {"sweep_seed", o.solver.seed},
+                           {"check_linearity", o.check_linearity},
+                           {"check_by_continuation", o.check_linearity && o.check_by_continuation},
+                           {"fallback", o.fallback},
+                           {"member", o.nearest_member ? "nearest" : "path"},
+                           {"prefer_quasi_static", o.prefer_quasi_static},
+                           {"dynamic_lp", o.dynamic_precheck}};
+  AddBackendOptions(o.solver, header);
+  // A backend whose answers changed raises its revision (ContactSolver::AnswerRevision):
+  // records of its earlier answers are not mixed with new ones.
   for (const std::string& name : {o.backend, o.fallback}) {
     if (name == "none" || name == "rate") continue;
-    const int revision = MakeSolver(name)->AnswerRevision();
-    if (revision > 1) header["revision_" + name] = revision;
+    header["revision_" + name] = MakeSolver(name)->AnswerRevision();
   }
   return header;
 }

@@ -95,18 +95,16 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.cell_strain = j.at("cell_strain").get<double>();
     r.pressure_change = j.at("pressure_change").get<double>();
     r.inertia_ratio = j.at("inertia_ratio").get<double>();
-    r.inertial_force =
-        NumberOrNaN(j.value("inertial_force", nlohmann::json()));  // absent in earlier records
-    r.fcrit_10xi =
-        NumberOrNaN(j.value("fcrit_10xi", nlohmann::json()));  // null or absent: not checked
-    r.linearity_misfit = NumberOrNaN(j.value("linearity_misfit", nlohmann::json()));
+    r.inertial_force = NumberOrNaN(j.at("inertial_force"));
+    r.fcrit_10xi = NumberOrNaN(j.at("fcrit_10xi"));  // null: not checked
+    r.linearity_misfit = NumberOrNaN(j.at("linearity_misfit"));
     r.equilibrium_residual = j.at("equilibrium_residual").get<double>();
     r.residual = j.at("residual").get<double>();
     r.seconds = j.at("seconds").get<double>();
     r.iterations = j.at("iterations").get<int>();
     r.status = j.at("status").get<std::string>();
-    r.message = j.value("message", std::string());  // absent in records of earlier versions
-    r.backend = j.value("backend", std::string());  // absent in records of earlier versions
+    r.message = j.at("message").get<std::string>();
+    r.backend = j.at("backend").get<std::string>();
     r.rattler = j.at("rattler").get<bool>();
     r.displacement_profile = FromNulls(j.at("displacement_profile"));
     r.force_profile = FromNulls(j.at("force_profile"));
