@@ -78,8 +78,8 @@ constexpr SweepOrder kOrders[] = {SweepOrder::kForward, SweepOrder::kRandom, Swe
 
 void TimeSweeps(benchmark::State& state, const ContactProblem& p, int threads = 1) {
   SolverOptions o;
-  o.threads = threads;
-  o.sweep_order = kOrders[state.range(1)];
+  o.nsgs.threads = threads;
+  o.nsgs.order = kOrders[state.range(1)];
   TimeFixedSweeps(state, o, 100, p.NumContacts(),
                   [&](ContactSolver& solver, const SolverOptions& options) {
                     return solver.Solve(p, options);
@@ -118,9 +118,9 @@ void BM_NsgsPileFromRest(benchmark::State& state) {
   const ContactProblem p = StoredProblem(kPile, state.range(0) / 100.0);
   SolverOptions o;
   o.tolerance = std::pow(10.0, -static_cast<double>(state.range(2)));
-  o.max_iterations = 1000000;
-  o.sweep_order = kOrders[state.range(1)];
-  o.threads = state.range(3);
+  o.nsgs.max_sweeps = 1000000;
+  o.nsgs.order = kOrders[state.range(1)];
+  o.nsgs.threads = state.range(3);
   auto solver = MakeSolver("nsgs");
   SolveResult r;
   for (auto _ : state) {

@@ -49,7 +49,7 @@ DelassusProblem PileProblem() {
 
 void TimeSweeps(benchmark::State& state, const DelassusProblem& p, int sweeps) {
   SolverOptions o;
-  o.sweep_order = state.range(1) == 0 ? SweepOrder::kForward : SweepOrder::kRandom;
+  o.nsgs.order = state.range(1) == 0 ? SweepOrder::kForward : SweepOrder::kRandom;
   TimeFixedSweeps(state, o, sweeps, p.NumContacts(),
                   [&](ContactSolver& solver, const SolverOptions& options) {
                     return solver.SolveDelassus(p, options);

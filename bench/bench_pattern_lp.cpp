@@ -31,7 +31,7 @@ Case Pose(const std::string& file, bool top_shift, int index) {
       top_shift ? TopTargets(base) : SampleTargets(ContactTargets(base), 10, 1);
   Case c{PosePerturbationProblem(base, targets[index], o), o.solver};
   c.options.tolerance = SolverToleranceFor(o, base);
-  c.options.lemke_velocity_scale = o.gap / o.dt;
+  c.options.lemke.velocity_scale = o.gap / o.dt;
   return c;
 }
 
@@ -64,7 +64,7 @@ void Pattern(benchmark::State& state, const Case& (*make)()) {
   PatternSolution last;
   for (auto _ : state) {
     last = SolveOnPattern(c.problem, start.impulses, c.problem.initial_guess,
-                          c.options.lemke_velocity_scale, 1.0);
+                          c.options.lemke.velocity_scale, 1.0);
     benchmark::DoNotOptimize(last.impulses.data());
   }
   state.counters["found"] = last.found ? 1 : 0;

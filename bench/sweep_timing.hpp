@@ -17,8 +17,8 @@ template <class Solve>
 void TimeFixedSweeps(benchmark::State& state, SolverOptions options, int sweeps, int contacts,
                      Solve solve) {
   options.tolerance = 1e-300;
-  options.max_iterations = sweeps;
-  options.check_interval = sweeps;
+  options.nsgs.max_sweeps = sweeps;
+  options.nsgs.check_interval = sweeps;
   auto solver = MakeSolver("nsgs");
   std::int64_t updates = 0;
   double seconds = 0.0;

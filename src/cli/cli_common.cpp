@@ -16,45 +16,45 @@ void SolverFlags::Register(CLI::App& app) {
   app.add_option("--backend", backend, "contact solver backend")->capture_default_str();
   app.add_option("--tol", options.tolerance, "tolerance on the unjam residual (docs/residual.md)")
       ->capture_default_str();
-  app.add_option("--max-iter", options.max_iterations,
+  app.add_option("--max-iter", max_iterations,
                  "NSGS sweep limit (newton: of its NSGS warm-up; ipopt, nlopt: De Saxce outer "
                  "iterations; lemke: pivots over all its runs)")
       ->capture_default_str();
-  app.add_option("--relaxation", options.relaxation, "NSGS over-relaxation factor in (0, 2)")
+  app.add_option("--relaxation", options.nsgs.relaxation, "NSGS over-relaxation factor in (0, 2)")
       ->capture_default_str();
   app.add_option("--order", order,
                  "NSGS sweep order: random, forward, symmetric, local (random blocks of "
                  "neighbouring contacts: faster on large packings), height (contacts by height, "
                  "swept up and down in turn: for piles; docs/performance.md)")
       ->capture_default_str();
-  app.add_option("--sweep-seed", options.seed, "seed of the random sweep order")
+  app.add_option("--sweep-seed", options.nsgs.seed, "seed of the random sweep order")
       ->capture_default_str();
-  app.add_option("--newton-iter", options.newton_max_iterations,
+  app.add_option("--newton-iter", options.newton.max_iterations,
                  "Newton iteration limit (each one a sparse LU)")
       ->capture_default_str();
-  app.add_option("--warmup-tol", options.newton_warmup_tolerance,
+  app.add_option("--warmup-tol", options.newton.warmup_tolerance,
                  "Newton: NSGS warms up to this residual first")
       ->capture_default_str();
-  app.add_flag("--convex-relaxation", options.convex_relaxation,
+  app.add_flag("--convex-relaxation", options.de_saxce.convex_relaxation,
                "ipopt, nlopt: solve the convex relaxation once (a different model: sliding "
                "contacts separate)");
-  app.add_option("--ipopt-iter", options.ipopt_max_iterations,
+  app.add_option("--ipopt-iter", options.ipopt.max_iterations,
                  "ipopt: interior-point iterations per convex solve")
       ->capture_default_str();
   app.add_option("--nlopt-algorithm", nlopt_algorithm, "nlopt: lbfgs (bounded L-BFGS) or ccsaq")
       ->capture_default_str();
-  app.add_option("--nlopt-eval", options.nlopt_max_evaluations,
+  app.add_option("--nlopt-eval", options.nlopt.max_evaluations,
                  "nlopt: objective evaluations per convex solve")
       ->capture_default_str();
-  app.add_flag("--lemke-warm", options.lemke_warm_start,
+  app.add_flag("--lemke-warm", options.lemke.warm_start,
                "lemke (experimental): first follow the homotopy from the warm start (the static "
                "forces), then the path from zero");
-  app.add_option("--lemke-row-pivots", options.lemke_pivots_per_row,
+  app.add_option("--lemke-row-pivots", options.lemke.pivots_per_row,
                  "lemke: pivots per complementarity row that each of its runs may take before the "
                  "next is tried (0: 20, and 200 in the rate form)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
-  app.add_flag("--lemke-box-first", options.lemke_box_rate_first,
+  app.add_flag("--lemke-box-first", options.lemke.box_rate_first,
                "lemke, perturbation steps with friction: try the box-form path in the rate form "
                "before the other paths (on tall piles those cycle first)");
   app.add_flag("--require-converged", require_converged,
@@ -63,8 +63,9 @@ void SolverFlags::Register(CLI::App& app) {
 
 SolverOptions SolverFlags::Resolve() const {
   SolverOptions o = options;
-  o.sweep_order = SweepOrderFromString(order);
-  o.nlopt_algorithm = NloptAlgorithmFromString(nlopt_algorithm);
+  o.SetIterationLimit(max_iterations);
+  o.nsgs.order = SweepOrderFromString(order);
+  o.nlopt.algorithm = NloptAlgorithmFromString(nlopt_algorithm);
   Validate(o);
   if (!(backend_may_be_auto && backend == "auto"))
     MakeSolver(backend);  // throws for an unknown one, listing the known ones

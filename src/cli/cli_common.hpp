@@ -50,6 +50,7 @@ struct SolverFlags {
   bool backend_may_be_auto = false;  // "auto": the command picks (perturb)
   std::string order = "random";
   std::string nlopt_algorithm = "lbfgs";
+  int max_iterations = SolverOptions{}.nsgs.max_sweeps;  // SolverOptions::SetIterationLimit
   SolverOptions options;
   bool require_converged = false;
 

@@ -324,8 +324,8 @@ int RunPack(const PackFlags& f) {
   StepOptions step;
   step.dt = TimeStep(f);
   step.backend = f.Backend();
-  step.solver.sweep_order = SweepOrderFromString(f.Order());
-  step.solver.threads = f.Threads();
+  step.solver.nsgs.order = SweepOrderFromString(f.Order());
+  step.solver.nsgs.threads = f.Threads();
   Scene scene = InitialScene(f);
   scene.provenance = Provenance(parameters);
   Simulation sim(scene, step);
@@ -339,8 +339,8 @@ int RunPack(const PackFlags& f) {
   relax.closure_gap = f.closure_gap;
   relax.linear_program = f.certificate_lp;
   relax.static_backend = f.Backend();
-  relax.sweep_order = step.solver.sweep_order;
-  relax.threads = step.solver.threads;
+  relax.sweep_order = step.solver.nsgs.order;
+  relax.threads = step.solver.nsgs.threads;
   // A progress line every 1000 steps, or sooner once 10 s have passed since the last one (a
   // pile at today's time step takes about 1 500 steps, a minute or more).
   relax.progress_interval = f.quiet ? 0 : 10;

@@ -182,15 +182,15 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
 
 // The backends' own options that change their answers.
 void AddBackendOptions(const SolverOptions& o, nlohmann::json& header) {
-  header["lemke_pivots_per_row"] = o.lemke_pivots_per_row;
-  header["lemke_box_first"] = o.lemke_box_rate_first;
-  header["lemke_warm"] = o.lemke_warm_start;
-  header["newton_iterations"] = o.newton_max_iterations;
-  header["warmup_tol"] = o.newton_warmup_tolerance;
-  header["ipopt_iterations"] = o.ipopt_max_iterations;
-  header["nlopt_algorithm"] = ToString(o.nlopt_algorithm);
-  header["nlopt_evaluations"] = o.nlopt_max_evaluations;
-  header["convex_relaxation"] = o.convex_relaxation;
+  header["lemke_pivots_per_row"] = o.lemke.pivots_per_row;
+  header["lemke_box_first"] = o.lemke.box_rate_first;
+  header["lemke_warm"] = o.lemke.warm_start;
+  header["newton_iterations"] = o.newton.max_iterations;
+  header["warmup_tol"] = o.newton.warmup_tolerance;
+  header["ipopt_iterations"] = o.ipopt.max_iterations;
+  header["nlopt_algorithm"] = ToString(o.nlopt.algorithm);
+  header["nlopt_evaluations"] = o.nlopt.max_evaluations;
+  header["convex_relaxation"] = o.de_saxce.convex_relaxation;
 }
 
 // Every parameter that changes a record: records of a run with another value of any of
@@ -207,10 +207,10 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
                            {"dt", o.dt},
                            {"tolerance", SolverToleranceFor(o, base)},
                            {"backend", o.backend},
-                           {"max_iterations", o.solver.max_iterations},
-                           {"relaxation", o.solver.relaxation},
-                           {"order", ToString(o.solver.sweep_order)},
-                           {"sweep_seed", o.solver.seed},
+                           {"max_iterations", o.solver.nsgs.max_sweeps},  // --max-iter
+                           {"relaxation", o.solver.nsgs.relaxation},
+                           {"order", ToString(o.solver.nsgs.order)},
+                           {"sweep_seed", o.solver.nsgs.seed},
                            {"check_linearity", o.check_linearity},
                            {"check_by_continuation", o.check_linearity && o.check_by_continuation},
                            {"fallback", o.fallback},

@@ -85,7 +85,7 @@ int RunSolve(const SolveFlags& flags) {
   StaticSolveOptions options;
   options.backend = flags.solver.backend;
   options.solver = flags.solver.Resolve();
-  options.solver.threads = ThreadsFromOption(flags.threads);
+  options.solver.nsgs.threads = ThreadsFromOption(flags.threads);
   // Written before solving: the problem does not depend on the solution, and a problem
   // that cannot be exported (a held contact) stops the command before the work.
   if (!flags.export_problem.empty()) {

@@ -48,8 +48,8 @@ CellCondition CellConditionFromString(const std::string& name) {
 
 namespace {
 bool LemkeOptionsGiven(const PerturbationOptions& o) {
-  return o.solver.lemke_warm_start || o.solver.lemke_pivots_per_row > 0 ||
-         o.solver.lemke_box_rate_first || o.prefer_quasi_static;
+  return o.solver.lemke.warm_start || o.solver.lemke.pivots_per_row > 0 ||
+         o.solver.lemke.box_rate_first || o.prefer_quasi_static;
 }
 
 bool FixedVolumeCell(const PerturbationOptions& options, const Scene& scene) {
@@ -392,9 +392,9 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.backend = StepBackend(options, base.scene);
   solve.solver = options.solver;
   solve.solver.tolerance = SolverToleranceFor(options, base);
-  solve.solver.lemke_velocity_scale = options.gap / options.dt;
-  solve.solver.newton_warm_probe = true;  // the static forces are the warm start
-  if (options.prefer_quasi_static) solve.solver.lemke_velocity_bound = DynamicSpeed(base, options);
+  solve.solver.lemke.velocity_scale = options.gap / options.dt;
+  solve.solver.newton.warm_probe = true;  // the static forces are the warm start
+  if (options.prefer_quasi_static) solve.solver.lemke.velocity_bound = DynamicSpeed(base, options);
   solve.nearest_member = options.nearest_member;
   return solve;
 }

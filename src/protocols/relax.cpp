@@ -67,9 +67,9 @@ StaticSolveOptions StaticOptions(const RelaxOptions& o, int max_iterations) {
   solve.closed_gap_tolerance = o.closed_gap_tolerance;
   solve.backend = o.static_backend;
   solve.solver.tolerance = o.static_tolerance;
-  solve.solver.max_iterations = max_iterations;
-  solve.solver.sweep_order = o.sweep_order;
-  solve.solver.threads = o.threads;
+  solve.solver.SetIterationLimit(max_iterations);
+  solve.solver.nsgs.order = o.sweep_order;
+  solve.solver.nsgs.threads = o.threads;
   return solve;
 }
 
@@ -195,7 +195,7 @@ Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce
 
 RelaxReport RelaxToStatic(Simulation& sim, const RelaxOptions& o, RelaxReport report) {
   sim.mutable_options().solver.tolerance = o.step_tolerance;
-  sim.mutable_options().solver.max_iterations = o.step_max_iterations;
+  sim.mutable_options().solver.SetIterationLimit(o.step_max_iterations);
   const double threshold = o.rest_speed * VelocityScale(sim.scene());
   while (report.steps < o.max_steps) {
     const StepReport step = sim.Step();

@@ -69,7 +69,7 @@ std::string FormatShort(double x) {
 // on inexact ones (newton's stalls) no κ tried (1e-2 to 1e4) gave a pattern with a solution.
 void SelectNearestMember(const ContactProblem& p, const StaticSolveOptions& options,
                          SolveResult& result) {
-  double v_scale = options.solver.lemke_velocity_scale;
+  double v_scale = options.solver.lemke.velocity_scale;
   if (!(v_scale > 0.0)) v_scale = std::max(VelocityOffset(p).cwiseAbs().maxCoeff(), 1e-300);
   const PatternSolution s = SolveOnPattern(p, result.impulses, p.initial_guess, v_scale, 1.0);
   const double residual = s.found ? ComputeResidual(p, s.impulses).residual : 0.0;

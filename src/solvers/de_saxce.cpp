@@ -23,9 +23,10 @@
 //
 // After each solve, contacts the natural map finds open are zeroed if that lowers the
 // convex residual (ConvexLaw::ZeroOpenContacts), and the best iterate by the true residual
-// is kept. The loop stops at the tolerance, at options.max_iterations convex solves, when a
-// library reports a failure, when the same tight problem brings no improvement (the
-// library's accuracy limit), or after 10 solves without halving the residual.
+// is kept. The loop stops at the tolerance, at options.de_saxce.max_outer_iterations
+// convex solves, when a library reports a failure, when the same tight problem brings no
+// improvement (the library's accuracy limit), or after 10 solves without halving the
+// residual.
 #include "de_saxce.hpp"
 
 #include <algorithm>
@@ -345,7 +346,7 @@ template <class Problem>
 SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::string& backend,
                        ConvexStepSolver& step) {
   Validate(o);
-  if (o.convex_relaxation) return SolveRelaxation(p, o, backend, step);
+  if (o.de_saxce.convex_relaxation) return SolveRelaxation(p, o, backend, step);
   const auto start = std::chrono::steady_clock::now();
   const ConvexLaw law(p);
   Iterate best{InitialImpulses(p), 0.0};
@@ -361,7 +362,7 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::stri
   int library_iterations = 0;
   int since_progress = 0;
   double progress_mark = best.residual;
-  while (best.residual > o.tolerance && solves < o.max_iterations) {
+  while (best.residual > o.tolerance && solves < o.de_saxce.max_outer_iterations) {
     const double inner = InnerTolerance(o, law.ShiftChange(r, previous_shift, shift));
     const double best_before = best.residual;
     const ConvexStep s = step.Solve(shift, r, inner);

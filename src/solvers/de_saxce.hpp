@@ -120,10 +120,11 @@ class ConvexStepSolver {
   virtual std::string IterationName() const = 0;
 };
 
-// The fixed point on the shift, or the convex relaxation alone (options.convex_relaxation).
-// report.iterations counts convex solves; the true residual of the returned impulses (the
-// best seen) is always in report.residual. Both forms: the posed velocity is
-// PosedContactVelocity (body form) or W r + q (Delassus form), the residual ComputeResidual.
+// The fixed point on the shift, or the convex relaxation alone
+// (options.de_saxce.convex_relaxation). report.iterations counts convex solves; the true
+// residual of the returned impulses (the best seen) is always in report.residual. Both
+// forms: the posed velocity is PosedContactVelocity (body form) or W r + q (Delassus form),
+// the residual ComputeResidual.
 SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& problem, const SolverOptions& options,
                                      const std::string& backend, ConvexStepSolver& step);
 SolveResult SolveByDeSaxceFixedPoint(const DelassusProblem& problem, const SolverOptions& options,

@@ -304,7 +304,7 @@ class IpoptStep final : public ConvexStepSolver {
     options.SetStringValue("jac_c_constant", "yes");
     options.SetStringValue("jac_d_constant", "yes");
     options.SetStringValue("mehrotra_algorithm", "yes");
-    options.SetIntegerValue("max_iter", o.ipopt_max_iterations);
+    options.SetIntegerValue("max_iter", o.ipopt.max_iterations);
     // "": no ipopt.opt from the working directory; results must not depend on where unjam runs.
     initialized_ = app_->Initialize("") == Ipopt::Solve_Succeeded;
   }

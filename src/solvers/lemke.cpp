@@ -214,7 +214,7 @@ double GenericWeight(int index) {
 Eigen::VectorXd PerturbationOf(const MatrixForm& k, const Encoding& enc, const SolverOptions& o,
                                double size, double velocity_unit) {
   const double largest_offset = k.offset.size() > 0 ? k.offset.cwiseAbs().maxCoeff() : 0.0;
-  const double scale = (o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale
+  const double scale = (o.lemke.velocity_scale > 0.0 ? o.lemke.velocity_scale
                         : largest_offset > 0.0       ? largest_offset
                                                      : 1.0) /
                        velocity_unit;
@@ -291,18 +291,18 @@ bool HasFriction(const MatrixForm& k) {
   });
 }
 
-// SolverOptions::lemke_velocity_bound: does the answer move some free variable faster?
+// SolverOptions::lemke.velocity_bound: does the answer move some free variable faster?
 // Says so in the run's account. The step's frictional law may have several solutions, and
 // on a pile at μ = 1 the first path usually ends on one in which a grain held up by
 // friction alone falls freely, while a later run ends on a quasi-static one
 // (docs/perturbations.md, "At μ = 1").
 bool AboveVelocityBound(const MatrixForm& k, const Eigen::VectorXd& impulses,
                         const SolverOptions& o, std::string& history) {
-  if (o.lemke_velocity_bound <= 0.0) return false;
+  if (o.lemke.velocity_bound <= 0.0) return false;
   const double fastest = (k.v_free + k.g * impulses).cwiseAbs().maxCoeff();
-  if (fastest <= o.lemke_velocity_bound) return false;
+  if (fastest <= o.lemke.velocity_bound) return false;
   history += " (a velocity of " + Scientific(fastest) + ", above the bound " +
-             Scientific(o.lemke_velocity_bound) + ": the next run is tried)";
+             Scientific(o.lemke.velocity_bound) + ": the next run is tried)";
   return true;
 }
 
@@ -348,17 +348,17 @@ struct Run {
 // unresolved, the box form's path from zero solved 17 exactly, and its perturbed run
 // with the polish the other 4 (docs/perturbations.md).
 // Each run is bounded by 20 pivots per complementarity row and by the caller's
-// max_iterations overall. Solving paths took up to 3.4 pivots per row on the periodic
+// lemke.max_pivots overall. Solving paths took up to 3.4 pivots per row on the periodic
 // N = 500 packing and 7.5 on the N = 100 pile (whose gravity load every contact must
 // take up from zero); the earlier bound of 3 cut 6 of the pile's 10 top shifts short.
 // Runs in the rate form get 200 per row: on the first 6 top shifts of the 1600-disk pile
 // (gravity-n1600-mu0.1) its box-form path from zero solved the step after 77–108 pivots
 // per row, where 20 stopped it; the bound of 100 that came first left 2 of the 6
 // unresolved, at 101 and 108 (--max-iter must allow it: the default 100 000 pivots do
-// not). A user may set another bound for every run (SolverOptions::lemke_pivots_per_row,
+// not). A user may set another bound for every run (SolverOptions::lemke.pivots_per_row,
 // --lemke-row-pivots).
 // On those piles the plain and the slip-speed rate paths cycle first, at a quarter to a
-// third of the pivots; SolverOptions::lemke_box_rate_first (--lemke-box-first) tries the
+// third of the pivots; SolverOptions::lemke.box_rate_first (--lemke-box-first) tries the
 // box-form rate path first. Every path starts from zero, so where the paths before it
 // cycle the answer is the same; where one of them solves, it may be another member.
 // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
@@ -442,16 +442,16 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   report.backend = name;
   std::string history;
   int pivots = 0;
-  const bool has_guess = o.lemke_warm_start && problem.initial_guess.size() == unknowns &&
+  const bool has_guess = o.lemke.warm_start && problem.initial_guess.size() == unknowns &&
                          problem.initial_guess.allFinite() &&
                          problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
-  const double velocity_scale = o.lemke_velocity_scale > 0.0 ? o.lemke_velocity_scale : 1.0;
+  const double velocity_scale = o.lemke.velocity_scale > 0.0 ? o.lemke.velocity_scale : 1.0;
   const Eigen::VectorXd guess =
       has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
   const std::vector<char> given_basis = ExpandBasis(k, InitialBasisOf(problem), slip.enc.variables);
   const bool rate_form = velocity_scale != 1.0;
   const std::vector<Run> runs =
-      PlanRuns(!given_basis.empty(), has_guess, rate_form, frictional, o.lemke_box_rate_first);
+      PlanRuns(!given_basis.empty(), has_guess, rate_form, frictional, o.lemke.box_rate_first);
   std::optional<Posed> rate_slip, rate_box;  // the rate form, posed when its first run comes
   auto posed_for = [&](const Run& run) -> Posed& {
     const bool is_box = run.form == ConeForm::kShiftedBox;
@@ -470,11 +470,11 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     mlcp.perturbation = perturbed
                             ? PerturbationOf(k, posed.enc, o, run.perturbation, posed.velocity_unit)
                             : Eigen::VectorXd();
-    const int per_row = o.lemke_pivots_per_row > 0 ? o.lemke_pivots_per_row : run.rate ? 200 : 20;
+    const int per_row = o.lemke.pivots_per_row > 0 ? o.lemke.pivots_per_row : run.rate ? 200 : 20;
     const int per_run = static_cast<int>(
-        std::min<long long>(o.max_iterations, 1LL * per_row * posed.enc.variables + 100));
+        std::min<long long>(o.lemke.max_pivots, 1LL * per_row * posed.enc.variables + 100));
     const lemke_internal::LemkeResult lemke =
-        lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.max_iterations - pivots), run.tie);
+        lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.lemke.max_pivots - pivots), run.tie);
     pivots += lemke.pivots;
     Eigen::VectorXd impulses = posed.t * lemke.z;
     double residual = ComputeResidual(problem, impulses).residual;
@@ -519,14 +519,14 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
       result.impulses.resize(0);
       report.status = SolveStatus::kNumericalFailure;
     }
-    if (report.converged() || pivots >= o.max_iterations) break;
+    if (report.converged() || pivots >= o.lemke.max_pivots) break;
   }
   if (!report.converged() && too_fast) {
     history += "; no run's solution within the velocity bound: the first one is kept";
     result = std::move(*too_fast);
   }
   report.iterations = pivots;
-  if (!report.converged() && pivots >= o.max_iterations)
+  if (!report.converged() && pivots >= o.lemke.max_pivots)
     report.status = SolveStatus::kIterationLimit;
   report.message = "Lemke: " + history;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -277,7 +277,7 @@ class NewtonPhase {
   int iterations() const { return iterations_; }
 
  private:
-  double EpsilonMin() const { return std::max(o_.newton_regularization, kEpsilonFloor); }
+  double EpsilonMin() const { return std::max(o_.newton.regularization, kEpsilonFloor); }
 
   bool Direction(const Evaluation& eval, double epsilon, Eigen::VectorXd& step) {
     const SparseMatrix k = NewtonMatrix(op_, eval.local, epsilon);
@@ -332,9 +332,10 @@ Iterate WarmUp(const Problem& p, const SolverOptions& o, const Iterate& start, d
                SolveReport& report, int& sweeps) {
   Problem warm = p;
   warm.initial_guess = start.impulses;
-  SolverOptions nsgs = o;
-  nsgs.tolerance = tolerance;
-  const SolveResult s = SolveWithNsgs(warm, nsgs);
+  SolverOptions warm_options = o;
+  warm_options.tolerance = tolerance;
+  warm_options.nsgs.max_sweeps = o.newton.warmup_max_sweeps;
+  const SolveResult s = SolveWithNsgs(warm, warm_options);
   report.contact_updates += s.report.contact_updates;
   sweeps += s.report.iterations;
   return {s.impulses, s.report.residual};
@@ -400,7 +401,7 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
   Iterate best = given;
 
   NewtonPhase<Problem> newton(p, options);
-  int budget = options.newton_max_iterations;
+  int budget = options.newton.max_iterations;
   std::string failure;
   int sweeps = 0;
   // The probe: from a warm start (the static forces before a perturbation) Newton alone
@@ -409,7 +410,7 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
   // 245 000 sweeps; docs/performance.md). Where it stalls instead (most dynamic responses: Newton
   // from the static state wanders), the rounds below start from the warm start as if it
   // had not run, since they do better from there than from its stalled point.
-  if (options.newton_warm_probe && p.initial_guess.size() == p.NumUnknowns() &&
+  if (options.newton.warm_probe && p.initial_guess.size() == p.NumUnknowns() &&
       best.residual > options.tolerance) {
     int probe_budget = std::min(budget, kProbeIterations);
     budget -= probe_budget;
@@ -418,7 +419,7 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
     if (probed.residual < best.residual) best = probed;
   }
   Iterate from = given;
-  double warmup = options.newton_warmup_tolerance;
+  double warmup = options.newton.warmup_tolerance;
   for (int round = 0; round < kMaxRounds && best.residual > options.tolerance && budget > 0;
        ++round) {
     if (from.residual > warmup) {

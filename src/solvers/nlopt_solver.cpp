@@ -257,7 +257,7 @@ void NloptStep::StartRun(Run& run, const Eigen::VectorXd& y0) const {
 nlopt_result NloptStep::RunOnce(Run& run, int evaluations_left) const {
   const unsigned n = static_cast<unsigned>(map_.lower.size());
   const nlopt_algorithm algorithm =
-      o_.nlopt_algorithm == NloptAlgorithm::kCcsaq ? NLOPT_LD_CCSAQ : NLOPT_LD_LBFGS;
+      o_.nlopt.algorithm == NloptAlgorithm::kCcsaq ? NLOPT_LD_CCSAQ : NLOPT_LD_LBFGS;
   NloptHandle opt(nlopt_create(algorithm, n));
   if (!opt) return NLOPT_OUT_OF_MEMORY;
   run.opt = opt.get();
@@ -283,9 +283,9 @@ ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd&
   run.best_residual = law_.Residual(run.r0, run.u0, shift);
   run.reached = run.best_residual <= tolerance || map_.lower.empty();
   nlopt_result result = NLOPT_SUCCESS;
-  while (!run.reached && run.evaluations < o_.nlopt_max_evaluations) {
+  while (!run.reached && run.evaluations < o_.nlopt.max_evaluations) {
     const double before = run.best_residual;
-    result = RunOnce(run, o_.nlopt_max_evaluations - run.evaluations);
+    result = RunOnce(run, o_.nlopt.max_evaluations - run.evaluations);
     if (run.reached || result == NLOPT_MAXEVAL_REACHED || !(run.best_residual < before)) break;
     StartRun(run, run.best_y);  // a run gains at most ~8 digits: restart from the best point
   }
@@ -293,7 +293,7 @@ ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd&
   out.iterations = run.evaluations;
   out.solved = run.reached;
   if (run.reached) result = NLOPT_SUCCESS;
-  out.failure = result == NLOPT_MAXEVAL_REACHED || run.evaluations >= o_.nlopt_max_evaluations
+  out.failure = result == NLOPT_MAXEVAL_REACHED || run.evaluations >= o_.nlopt.max_evaluations
                     ? SolveStatus::kIterationLimit
                     : SolveStatus::kNumericalFailure;
   out.library_status = std::string("NLopt ") + nlopt_result_to_string(result);

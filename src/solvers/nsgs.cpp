@@ -376,7 +376,7 @@ std::vector<Row> DomainRows(const ContactProblem& p, const Layout& layout, const
   return rows;
 }
 
-// NSGS on o.threads threads (nsgs_domains.hpp). A sweep: each thread sweeps its domain's
+// NSGS on o.nsgs.threads threads (nsgs_domains.hpp). A sweep: each thread sweeps its domain's
 // contacts against its own copy of the cell rate (the one state all contacts share), the
 // copies' changes are summed in thread order, then the caller sweeps the contacts between
 // domains. A residual check splits its per-contact errors among the threads too: on one
@@ -385,13 +385,13 @@ template <bool kFrictional>
 class DomainSolve {
  public:
   DomainSolve(const ContactProblem& p, const SolverOptions& o, const Layout& base)
-      : p_(p), o_(o), threads_(o.threads), layout_(DomainLayout(p, base, threads_, domains_)),
+      : p_(p), o_(o), threads_(o.nsgs.threads), layout_(DomainLayout(p, base, threads_, domains_)),
         rows_(DomainRows(p, layout_, domains_)), state_(InitialState(p, layout_, threads_ + 1)),
         evaluate_(p), errors_(p.NumContacts()), cell_change_(threads_, 0.0),
         team_(threads_, [this](int t) { Work(t); }) {
     for (int t = 0; t < threads_; ++t)
-      lists_.push_back(MakeListOrder(std::move(domains_.inside[t]), o.seed, t));
-    lists_.push_back(MakeListOrder(std::move(domains_.between), o.seed, threads_));
+      lists_.push_back(MakeListOrder(std::move(domains_.inside[t]), o.nsgs.seed, t));
+    lists_.push_back(MakeListOrder(std::move(domains_.between), o.nsgs.seed, threads_));
   }
 
   void Sweep(int index) {
@@ -399,8 +399,8 @@ class DomainSolve {
     cell_start_ = state_.cell_rate;
     team_.Run();
     for (double change : cell_change_) state_.cell_rate += change;
-    SweepList<kFrictional>(rows_, lists_[threads_], o_.sweep_order, index, o_.relaxation, state_,
-                           state_.cell_rate);
+    SweepList<kFrictional>(rows_, lists_[threads_], o_.nsgs.order, index, o_.nsgs.relaxation,
+                           state_, state_.cell_rate);
   }
 
   double Residual() {
@@ -423,7 +423,8 @@ class DomainSolve {
       return;
     }
     double cell = cell_start_;
-    SweepList<kFrictional>(rows_, lists_[t], o_.sweep_order, index_, o_.relaxation, state_, cell);
+    SweepList<kFrictional>(rows_, lists_[t], o_.nsgs.order, index_, o_.nsgs.relaxation, state_,
+                           cell);
     cell_change_[t] = cell - cell_start_;
   }
 
@@ -453,8 +454,8 @@ void SolveOnOneThread(const ContactProblem& p, const SolverOptions& o, const Lay
   State state = InitialState(p, layout);
   const ResidualEvaluator evaluate(p);
   auto sweep = [&](const std::vector<std::uint32_t>& order) {
-    if (p.frictional) Sweep<true>(rows, order, o.relaxation, state);
-    else Sweep<false>(rows, order, o.relaxation, state);
+    if (p.frictional) Sweep<true>(rows, order, o.nsgs.relaxation, state);
+    else Sweep<false>(rows, order, o.nsgs.relaxation, state);
   };
   auto residual = [&] { return evaluate(Impulses(p, layout, state)).residual; };
   solvers_internal::RunSweeps(p.NumContacts(), o, sweep, residual, result.report);
@@ -477,10 +478,10 @@ SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& opti
   Validate(p);
   Validate(options);
   const auto start = std::chrono::steady_clock::now();
-  const Layout layout = MakeLayout(p, options.sweep_order);
+  const Layout layout = MakeLayout(p, options.nsgs.order);
   SolveResult result;
   result.report.backend = Name();
-  if (options.threads < 2 || p.NumContacts() < kParallelContacts)
+  if (options.nsgs.threads < 2 || p.NumContacts() < kParallelContacts)
     SolveOnOneThread(p, options, layout, result);
   else if (p.frictional) SolveInDomains<true>(p, options, layout, result);
   else SolveInDomains<false>(p, options, layout, result);

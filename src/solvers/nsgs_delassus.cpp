@@ -118,7 +118,7 @@ SolveResult NsgsSolver::SolveDelassus(const DelassusProblem& p, const SolverOpti
   Validate(p);
   Validate(options);
   const auto start = std::chrono::steady_clock::now();
-  DelassusSweeper sweeper(p, options.relaxation);
+  DelassusSweeper sweeper(p, options.nsgs.relaxation);
   SolveResult result;
   result.report.backend = Name();
   auto sweep = [&](const std::vector<std::uint32_t>& order) { sweeper.Sweep(order); };

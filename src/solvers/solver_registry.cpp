@@ -68,31 +68,61 @@ namespace {
 }
 }  // namespace
 
+void NsgsParameters::Validate() const {
+  if (max_sweeps < 0) Reject("nsgs.max_sweeps", max_sweeps, "must be >= 0");
+  if (!(relaxation > 0.0 && relaxation < 2.0))
+    Reject("nsgs.relaxation", relaxation, "must lie in (0, 2)");
+  if (check_interval < 1) Reject("nsgs.check_interval", check_interval, "must be >= 1");
+  if (threads < 1) Reject("nsgs.threads", threads, "must be >= 1");
+}
+
+void NewtonParameters::Validate() const {
+  if (max_iterations < 0) Reject("newton.max_iterations", max_iterations, "must be >= 0");
+  if (!(regularization >= 0.0) || !std::isfinite(regularization))
+    Reject("newton.regularization", regularization, "must be a finite number >= 0");
+  if (!(warmup_tolerance > 0.0) || !std::isfinite(warmup_tolerance))
+    Reject("newton.warmup_tolerance", warmup_tolerance, "must be a positive finite number");
+  if (warmup_max_sweeps < 0) Reject("newton.warmup_max_sweeps", warmup_max_sweeps, "must be >= 0");
+}
+
+void DeSaxceParameters::Validate() const {
+  if (max_outer_iterations < 0)
+    Reject("de_saxce.max_outer_iterations", max_outer_iterations, "must be >= 0");
+}
+
+void IpoptParameters::Validate() const {
+  if (max_iterations < 0) Reject("ipopt.max_iterations", max_iterations, "must be >= 0");
+}
+
+void NloptParameters::Validate() const {
+  if (max_evaluations < 1) Reject("nlopt.max_evaluations", max_evaluations, "must be >= 1");
+}
+
+void LemkeParameters::Validate() const {
+  if (max_pivots < 0) Reject("lemke.max_pivots", max_pivots, "must be >= 0");
+  if (!(velocity_scale >= 0.0) || !std::isfinite(velocity_scale))
+    Reject("lemke.velocity_scale", velocity_scale, "must be a finite number >= 0");
+  if (!(velocity_bound >= 0.0) || !std::isfinite(velocity_bound))
+    Reject("lemke.velocity_bound", velocity_bound, "must be a finite number >= 0");
+  if (pivots_per_row < 0) Reject("lemke.pivots_per_row", pivots_per_row, "must be >= 0");
+}
+
+void SolverOptions::SetIterationLimit(int n) {
+  nsgs.max_sweeps = n;
+  newton.warmup_max_sweeps = n;
+  de_saxce.max_outer_iterations = n;
+  lemke.max_pivots = n;
+}
+
 void Validate(const SolverOptions& o) {
   if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
     Reject("tolerance", o.tolerance, "must be a positive finite number");
-  if (o.max_iterations < 0) Reject("max_iterations", o.max_iterations, "must be >= 0");
-  if (!(o.relaxation > 0.0 && o.relaxation < 2.0))
-    Reject("relaxation", o.relaxation, "must lie in (0, 2)");
-  if (o.check_interval < 1) Reject("check_interval", o.check_interval, "must be >= 1");
-  if (o.threads < 1) Reject("threads", o.threads, "must be >= 1");
-  if (o.newton_max_iterations < 0)
-    Reject("newton_max_iterations", o.newton_max_iterations, "must be >= 0");
-  if (!(o.newton_regularization >= 0.0) || !std::isfinite(o.newton_regularization))
-    Reject("newton_regularization", o.newton_regularization, "must be a finite number >= 0");
-  if (!(o.newton_warmup_tolerance > 0.0) || !std::isfinite(o.newton_warmup_tolerance))
-    Reject("newton_warmup_tolerance", o.newton_warmup_tolerance,
-           "must be a positive finite number");
-  if (o.ipopt_max_iterations < 0)
-    Reject("ipopt_max_iterations", o.ipopt_max_iterations, "must be >= 0");
-  if (o.nlopt_max_evaluations < 1)
-    Reject("nlopt_max_evaluations", o.nlopt_max_evaluations, "must be >= 1");
-  if (!(o.lemke_velocity_scale >= 0.0) || !std::isfinite(o.lemke_velocity_scale))
-    Reject("lemke_velocity_scale", o.lemke_velocity_scale, "must be a finite number >= 0");
-  if (!(o.lemke_velocity_bound >= 0.0) || !std::isfinite(o.lemke_velocity_bound))
-    Reject("lemke_velocity_bound", o.lemke_velocity_bound, "must be a finite number >= 0");
-  if (o.lemke_pivots_per_row < 0)
-    Reject("lemke_pivots_per_row", o.lemke_pivots_per_row, "must be >= 0");
+  o.nsgs.Validate();
+  o.newton.Validate();
+  o.de_saxce.Validate();
+  o.ipopt.Validate();
+  o.nlopt.Validate();
+  o.lemke.Validate();
 }
 
 SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {

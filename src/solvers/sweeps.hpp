@@ -58,8 +58,8 @@ void RunIndexedSweeps(int num_contacts, const SolverOptions& o, IndexedSweepFn s
                       ResidualFn residual, SolveReport& report) {
   double current = residual();
   int sweeps = 0;
-  while (current > o.tolerance && sweeps < o.max_iterations) {
-    const int batch = std::min(o.check_interval, o.max_iterations - sweeps);
+  while (current > o.tolerance && sweeps < o.nsgs.max_sweeps) {
+    const int batch = std::min(o.nsgs.check_interval, o.nsgs.max_sweeps - sweeps);
     for (int b = 0; b < batch; ++b, ++sweeps) sweep(sweeps);
     report.contact_updates += static_cast<std::int64_t>(batch) * num_contacts;
     current = residual();
@@ -78,16 +78,16 @@ void RunIndexedSweeps(int num_contacts, const SolverOptions& o, IndexedSweepFn s
   }
 }
 
-// The same with one order over all contacts (o.sweep_order, drawn from o.seed);
+// The same with one order over all contacts (o.nsgs.order, drawn from o.nsgs.seed);
 // `sweep(order)` performs one sweep over the contacts in `order`.
 template <class SweepFn, class ResidualFn>
 void RunSweeps(int num_contacts, const SolverOptions& o, SweepFn sweep, ResidualFn residual,
                SolveReport& report) {
   std::vector<std::uint32_t> order(num_contacts);
   std::iota(order.begin(), order.end(), 0u);
-  SplitMix64 rng{o.seed};
+  SplitMix64 rng{o.nsgs.seed};
   auto indexed = [&](int index) {
-    NextOrder(o.sweep_order, index, rng, order);
+    NextOrder(o.nsgs.order, index, rng, order);
     sweep(order);
   };
   RunIndexedSweeps(num_contacts, o, indexed, residual, report);

@@ -75,7 +75,7 @@ grep -q "relaxation" "$work/err" || fail "bad relaxation not named"
 expect_code 2 "unknown NLopt algorithm" "$unjam" solve "$work/stack.unjam" --backend nlopt --nlopt-algorithm bfgs
 grep -q "bfgs" "$work/err" || fail "unknown NLopt algorithm not named"
 expect_code 2 "bad Ipopt iteration limit" "$unjam" solve "$work/stack.unjam" --backend ipopt --ipopt-iter -1
-grep -q "ipopt_max_iterations" "$work/err" || fail "bad ipopt_max_iterations not named"
+grep -q "ipopt.max_iterations" "$work/err" || fail "bad ipopt.max_iterations not named"
 expect_code 2 "unknown command" "$unjam" frobnicate
 
 # Bad input files: exit 1, the file and the line named, no output file left behind.

@@ -63,8 +63,8 @@ TEST_P(BundledPacking, FrictionlessForcesAreUniqueFromAColdStart) {
   StaticSolveOptions options;
   // Cold NSGS on a jammed packing converges diffusively (~1e5 sweeps at N = 500).
   options.solver.tolerance = 1e-10;
-  options.solver.max_iterations = 2000000;
-  options.solver.sweep_order = SweepOrder::kSymmetric;
+  options.solver.nsgs.max_sweeps = 2000000;
+  options.solver.nsgs.order = SweepOrder::kSymmetric;
   const StaticSolution s = SolveStatic(scene, options);
   ASSERT_TRUE(s.report.converged()) << s.report.message;
   const Coordination z = ComputeCoordination(scene, s.contacts, s.forces);

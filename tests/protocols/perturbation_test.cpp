@@ -148,7 +148,7 @@ TEST(Perturbation, TheFallbackSolvesWhatTheFirstBackendLeaves) {
       ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/pressure-n500-mu0.5.unjam");
   PerturbationOptions o;
   o.backend = "newton";
-  o.solver.newton_max_iterations = 0;
+  o.solver.newton.max_iterations = 0;
   o.fallback = "none";
   o.check_linearity = false;
   const PerturbationBase base = PreparePerturbations(scene, o);
@@ -207,12 +207,12 @@ TEST(Perturbation, AutoSolvesByRateAndGivesUndecidedLargeFrictionalStepsToNewton
   EXPECT_EQ(StepBackend(o, large_frictionless), "newton");
   EXPECT_EQ(PerturbationFallback(o, large_frictionless), "lemke")
       << "a frictionless step keeps lemke after newton";
-  o.solver.lemke_box_rate_first = true;  // an option only lemke reads names the backend
+  o.solver.lemke.box_rate_first = true;  // an option only lemke reads names the backend
   EXPECT_EQ(PerturbationBackend(o, large), "lemke");
   EXPECT_EQ(StepBackend(o, large), "lemke");
   EXPECT_FALSE(AutoLeavesLemkeForSize(o, large));
   EXPECT_EQ(PerturbationFallback(o, large), "ipopt");
-  o.solver.lemke_box_rate_first = false;
+  o.solver.lemke.box_rate_first = false;
   o.prefer_quasi_static = true;
   EXPECT_EQ(PerturbationBackend(o, large), "lemke");
   o.prefer_quasi_static = false;
@@ -232,7 +232,7 @@ TEST(Perturbation, AutoSolvesByRateAndGivesUndecidedLargeFrictionalStepsToNewton
 TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
   const Scene scene = Column();
   PerturbationOptions o;
-  o.solver.max_iterations = 2000;
+  o.solver.SetIterationLimit(2000);
   const PerturbationBase base = PreparePerturbations(scene, o);
   const std::vector<PerturbationTarget> top = TopTargets(base);
   ASSERT_EQ(top.size(), 1u);
@@ -538,8 +538,8 @@ TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
   PerturbationOptions frozen = with_lp;
   frozen.cell = CellCondition::kFixedVolume;
   frozen.backend = "newton";
-  frozen.solver.max_iterations = 1;
-  frozen.solver.newton_max_iterations = 1;
+  frozen.solver.SetIterationLimit(1);
+  frozen.solver.newton.max_iterations = 1;
   EXPECT_NE(Perturb(lp_base, dynamic, frozen).solve.backend, "inertia LP");
 
   const PerturbationTarget quasi_static = OpeningOf(base, 49, 208);
@@ -832,14 +832,14 @@ TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
 
 // The same pile's top shift of particle 234: every cold run ends on 206's fall or cycles
 // (docs/perturbations.md, "At μ = 1"), but the warm start's homotopy from the static forces
-// in the rate form (lemke_warm_start) ends on a quasi-static solution, linear in ξ and
+// in the rate form (lemke.warm_start) ends on a quasi-static solution, linear in ξ and
 // inside the shift's LP interval.
 TEST(Perturbation, WarmStartInTheRateFormFindsAQuasiStaticShiftNoColdRunFinds) {
   const Scene scene =
       ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n400-w25-mu1.unjam");
   PerturbationOptions o;
   o.fallback = "none";
-  o.solver.lemke_warm_start = true;
+  o.solver.lemke.warm_start = true;
   o.prefer_quasi_static = true;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationTarget target = TopShiftOf(base, 234);

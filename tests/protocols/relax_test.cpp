@@ -100,8 +100,8 @@ TEST(Relax, RefinementOfAStaticPileRestoresItsForces) {
     Scene s = pile;
     s.forces = forces;
     StaticSolveOptions so;
-    so.solver.max_iterations = 1;
-    so.solver.check_interval = 1;
+    so.solver.nsgs.max_sweeps = 1;
+    so.solver.nsgs.check_interval = 1;
     return SolveStatic(s, so);
   };
   const StaticSolution from_refined = one_sweep(r.forces), from_halved = one_sweep(halved);

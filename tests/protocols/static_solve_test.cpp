@@ -21,7 +21,7 @@ StaticSolveOptions Tight(const std::string& backend = "nsgs") {
   StaticSolveOptions o;
   o.backend = backend;
   o.solver.tolerance = kTol;
-  o.solver.sweep_order = SweepOrder::kSymmetric;
+  o.solver.nsgs.order = SweepOrder::kSymmetric;
   return o;
 }
 

@@ -101,7 +101,7 @@ TEST_P(StoredProblem, BundledPileThroughAFileReachesTheResidualOfTheDirectSolve)
   if (GetParam() == "nlopt") {
     // nlopt's documented limit (docs/backends.md): it stalls near 1e-7 in both forms, and
     // says so. The through-the-file residual is then checked against nsgs's direct solve.
-    o.solver.nlopt_max_evaluations = 2000;
+    o.solver.nlopt.max_evaluations = 2000;
     const StoredSolution s = SolveStoredProblem(read, GetParam(), o.solver);
     EXPECT_EQ(s.report.status, SolveStatus::kIterationLimit) << s.report.message;
     EXPECT_LT(s.report.residual, 1e-6);

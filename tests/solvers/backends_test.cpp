@@ -140,7 +140,7 @@ TEST_P(Backend, FrictionalPileFromColdReachesTheSameResidualAsNsgs) {
     // The documented limit of nlopt (docs/backends.md): bounded L-BFGS on the degenerate QP
     // of a hyperstatic pile stalls near 1e-7 (measured: 1.1e-7 after 2 000 evaluations,
     // 1.2e-7 after 200 000). It says so, from a nearly static state.
-    o.solver.nlopt_max_evaluations = 2000;
+    o.solver.nlopt.max_evaluations = 2000;
     const StaticSolution s = SolveStatic(scene, o);
     EXPECT_EQ(s.report.status, SolveStatus::kIterationLimit);
     EXPECT_NE(s.report.message.find("MAXEVAL_REACHED"), std::string::npos) << s.report.message;
@@ -156,11 +156,11 @@ TEST_P(Backend, FrictionalPileFromColdReachesTheSameResidualAsNsgs) {
 
 TEST_P(Backend, ReportsAFailureInsteadOfHidingIt) {
   SolverOptions o;
-  o.max_iterations = 1;  // NSGS sweeps (Newton: of its warm-up; ipopt, nlopt: convex solves)
-  o.newton_max_iterations = 1;
-  o.ipopt_max_iterations = 1;
-  o.nlopt_max_evaluations = 1;
-  o.check_interval = 1;
+  o.SetIterationLimit(1);  // NSGS sweeps (Newton: of its warm-up; ipopt, nlopt: convex solves)
+  o.newton.max_iterations = 1;
+  o.ipopt.max_iterations = 1;
+  o.nlopt.max_evaluations = 1;
+  o.nsgs.check_interval = 1;
   o.tolerance = 1e-14;
   const SolveResult r = MakeSolver(GetParam())->Solve(StackProblem(40, 0.3), o);
   EXPECT_FALSE(r.report.converged());
@@ -200,7 +200,7 @@ TEST(Newton, LargeSystemsCarryTheWeightAbove) {
   }
 }
 
-// The probe (SolverOptions::newton_warm_probe, set by perturbations): from a warm start
+// The probe (SolverOptions::newton.warm_probe, set by perturbations): from a warm start
 // within Newton's reach, Newton alone reaches the tolerance and the NSGS warm-up never
 // runs; without the probe the warm-up runs first (the start is above its 1e-5). Both end
 // on the stack's unique forces.
@@ -215,7 +215,7 @@ TEST(Newton, TheProbeFromANearWarmStartSkipsTheWarmUp) {
   for (const bool probe : {true, false}) {
     SolverOptions o;
     o.tolerance = 1e-12;
-    o.newton_warm_probe = probe;
+    o.newton.warm_probe = probe;
     const SolveResult r = MakeSolver("newton")->Solve(p, o);
     ASSERT_TRUE(r.report.converged()) << r.report.message;
     if (probe) {

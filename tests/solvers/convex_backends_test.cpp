@@ -78,7 +78,7 @@ TEST(ConvexRelaxation, LetsASlidingContactSeparateWhereTheExactLawSlides) {
   const double a = (1.0 + 3.0 * mu) / (2.0 + 3.0 * mu * mu);
   for (const std::string& backend : kConvexBackends) {
     SolverOptions o = Tolerance(1e-12);
-    o.convex_relaxation = true;
+    o.de_saxce.convex_relaxation = true;
     const SolveResult relaxed = SolveWith(backend, p, o);
     EXPECT_EQ(relaxed.report.status, SolveStatus::kRelaxedModel)
         << backend << ": " << relaxed.report.message;
@@ -100,7 +100,7 @@ TEST(ConvexRelaxation, LetsASlidingContactSeparateWhereTheExactLawSlides) {
 TEST(ConvexRelaxation, IsTheExactLawWhereNothingSlides) {
   for (const std::string& backend : kConvexBackends) {
     SolverOptions o = Tolerance(1e-12);
-    o.convex_relaxation = true;
+    o.de_saxce.convex_relaxation = true;
     const SolveResult stick = SolveWith(backend, OneContact(1.0, 0.3, 1.0), o);
     ASSERT_TRUE(stick.report.converged()) << backend << ": " << stick.report.message;
     EXPECT_NEAR(stick.impulses[0], 0.5, 1e-11) << backend;
@@ -174,8 +174,8 @@ TEST(ConvexBackends, AnExactWarmStartNeedsNoConvexSolve) {
 
 TEST(ConvexBackends, NameTheLibraryStatusWhenTheyStopShort) {
   SolverOptions o = Tolerance(1e-12);
-  o.ipopt_max_iterations = 1;
-  o.nlopt_max_evaluations = 1;
+  o.ipopt.max_iterations = 1;
+  o.nlopt.max_evaluations = 1;
   for (auto [backend, status] :
        {std::pair{"ipopt", "Maximum_Iterations_Exceeded"}, std::pair{"nlopt", "MAXEVAL_REACHED"}}) {
     const SolveResult r = SolveWith(backend, StackProblem(12, 0.5), o);
@@ -208,7 +208,7 @@ TEST(Nlopt, CcsaqReachesTheStackForces) {
   // The stack's condition number is ~k² = 144, so a residual of 1e-10 bounds the force
   // errors by ~1e-8 of the mean force (about 5 weights here).
   SolverOptions o = Tolerance(1e-10);
-  o.nlopt_algorithm = NloptAlgorithm::kCcsaq;
+  o.nlopt.algorithm = NloptAlgorithm::kCcsaq;
   const SolveResult r = SolveWith("nlopt", StackProblem(12, 0.5), o);
   ASSERT_TRUE(r.report.converged()) << r.report.message;
   for (int c = 0; c < 12; ++c)
@@ -217,15 +217,15 @@ TEST(Nlopt, CcsaqReachesTheStackForces) {
 
 TEST(ConvexBackends, OptionRulesNameTheField) {
   SolverOptions o;
-  o.ipopt_max_iterations = -1;
+  o.ipopt.max_iterations = -1;
   EXPECT_THROW(Validate(o), std::invalid_argument);
   o = SolverOptions{};
-  o.nlopt_max_evaluations = 0;
+  o.nlopt.max_evaluations = 0;
   try {
     Validate(o);
-    ADD_FAILURE() << "nlopt_max_evaluations = 0 accepted";
+    ADD_FAILURE() << "nlopt.max_evaluations = 0 accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("nlopt_max_evaluations"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nlopt.max_evaluations"), std::string::npos) << e.what();
   }
   for (NloptAlgorithm a : {NloptAlgorithm::kLbfgs, NloptAlgorithm::kCcsaq}) {
     EXPECT_EQ(NloptAlgorithmFromString(ToString(a)), a);

@@ -139,10 +139,10 @@ TEST(SolveDelassus, NsgsHonoursEverySweepOrderAndRelaxation) {
   for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kForward, SweepOrder::kSymmetric}) {
     for (double omega : {1.0, 1.5}) {
       SolverOptions o;
-      o.sweep_order = order;
-      o.relaxation = omega;
+      o.nsgs.order = order;
+      o.nsgs.relaxation = omega;
       o.tolerance = 1e-13;
-      o.check_interval = 1;
+      o.nsgs.check_interval = 1;
       const SolveResult r = MakeSolver("nsgs")->SolveDelassus(p, o);
       ASSERT_TRUE(r.report.converged()) << ToString(order) << " " << omega;
       EXPECT_NEAR(r.impulses[0], k * w, 1e-9) << ToString(order) << " " << omega;
@@ -278,7 +278,7 @@ TEST_P(DelassusBackend, BundledFrictionalPileReachesTheBodyFormResidual) {
     // on the degenerate QP of the hyperstatic pile stalls near 1e-7 and says so.
     SolverOptions o;
     o.tolerance = 1e-7;
-    o.nlopt_max_evaluations = 2000;
+    o.nlopt.max_evaluations = 2000;
     const SolveResult r = MakeSolver(GetParam())->SolveDelassus(p, o);
     EXPECT_EQ(r.report.status, SolveStatus::kIterationLimit) << r.report.message;
     EXPECT_NE(r.report.message.find("MAXEVAL_REACHED"), std::string::npos) << r.report.message;
@@ -293,11 +293,11 @@ TEST_P(DelassusBackend, BundledFrictionalPileReachesTheBodyFormResidual) {
 
 TEST_P(DelassusBackend, ReportsAFailureInsteadOfHidingIt) {
   SolverOptions o;
-  o.max_iterations = 1;
-  o.newton_max_iterations = 1;
-  o.ipopt_max_iterations = 1;
-  o.nlopt_max_evaluations = 1;
-  o.check_interval = 1;
+  o.SetIterationLimit(1);
+  o.newton.max_iterations = 1;
+  o.ipopt.max_iterations = 1;
+  o.nlopt.max_evaluations = 1;
+  o.nsgs.check_interval = 1;
   o.tolerance = 1e-14;
   const SolveResult r =
       MakeSolver(GetParam())->SolveDelassus(ToDelassusProblem(StackProblem(40, 0.3)), o);

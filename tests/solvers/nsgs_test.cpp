@@ -65,8 +65,8 @@ TEST(Nsgs, SolvesOneContactExactlyInOneSweep) {
 
 TEST(Nsgs, ReportsTheIterationLimitInsteadOfHidingIt) {
   SolverOptions o;
-  o.max_iterations = 3;
-  o.check_interval = 1;
+  o.nsgs.max_sweeps = 3;
+  o.nsgs.check_interval = 1;
   SolveResult r = MakeSolver("nsgs")->Solve(StackProblem(30, 0.0), o);
   EXPECT_EQ(r.report.status, SolveStatus::kIterationLimit);
   EXPECT_EQ(r.report.iterations, 3);
@@ -80,8 +80,8 @@ TEST(Nsgs, EverySweepOrderAndRelaxationReachesTheUniqueForces) {
                            SweepOrder::kLocal, SweepOrder::kHeight}) {
     for (double omega : {1.0, 1.5}) {
       SolverOptions o;
-      o.sweep_order = order;
-      o.relaxation = omega;
+      o.nsgs.order = order;
+      o.nsgs.relaxation = omega;
       o.tolerance = 1e-13;
       SolveResult r = MakeSolver("nsgs")->Solve(p, o);
       ASSERT_TRUE(r.report.converged()) << ToString(order) << " " << omega;
@@ -102,7 +102,7 @@ TEST(Nsgs, WarmStartFromTheSolutionNeedsNoSweep) {
   ASSERT_TRUE(cold.report.converged());
   p.initial_guess = cold.impulses;
   for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kLocal}) {
-    o.sweep_order = order;
+    o.nsgs.order = order;
     SolveResult warm = MakeSolver("nsgs")->Solve(p, o);
     EXPECT_TRUE(warm.report.converged()) << ToString(order);
     EXPECT_EQ(warm.report.iterations, 0) << ToString(order);
@@ -116,9 +116,9 @@ TEST(Nsgs, WarmStartFromTheSolutionNeedsNoSweep) {
 TEST(Nsgs, LocalOrderReturnsEveryImpulseToItsOwnContact) {
   const int k = 200;
   SolverOptions o;
-  o.sweep_order = SweepOrder::kLocal;
+  o.nsgs.order = SweepOrder::kLocal;
   o.tolerance = 1e-12;
-  o.max_iterations = 1000000;
+  o.nsgs.max_sweeps = 1000000;
   const SolveResult r = MakeSolver("nsgs")->Solve(StackProblem(k, 0.3), o);
   ASSERT_TRUE(r.report.converged()) << r.report.residual;
   const double w = std::numbers::pi * 0.25;
@@ -143,9 +143,9 @@ TEST(Nsgs, HeightOrderReturnsEveryImpulseToItsOwnContact) {
   ASSERT_EQ(p.NumContacts(), k);
   ASSERT_GT(p.contacts.front().height, p.contacts.back().height);  // problem order: top first
   SolverOptions o;
-  o.sweep_order = SweepOrder::kHeight;
+  o.nsgs.order = SweepOrder::kHeight;
   o.tolerance = 1e-12;
-  o.max_iterations = 1000000;
+  o.nsgs.max_sweeps = 1000000;
   const SolveResult res = MakeSolver("nsgs")->Solve(p, o);
   ASSERT_TRUE(res.report.converged()) << res.report.residual;
   const double w = std::numbers::pi * r * r;
@@ -160,7 +160,7 @@ TEST(Nsgs, HeightOrderReturnsEveryImpulseToItsOwnContact) {
 TEST(Nsgs, SameSeedSameBits) {
   const ContactProblem p = StackProblem(15, 0.5);
   SolverOptions o;
-  o.seed = 42;
+  o.nsgs.seed = 42;
   const SolveResult a = MakeSolver("nsgs")->Solve(p, o);
   const SolveResult b = MakeSolver("nsgs")->Solve(p, o);
   EXPECT_EQ(a.impulses, b.impulses);
@@ -189,10 +189,10 @@ TEST(NsgsThreads, ReachTheUniqueForcesOfStacks) {
   const double w = std::numbers::pi * 0.25;
   for (SweepOrder order : {SweepOrder::kHeight, SweepOrder::kRandom, SweepOrder::kLocal}) {
     SolverOptions o;
-    o.threads = 2;
-    o.sweep_order = order;
+    o.nsgs.threads = 2;
+    o.nsgs.order = order;
     o.tolerance = 1e-12;
-    o.max_iterations = 1000000;
+    o.nsgs.max_sweeps = 1000000;
     const SolveResult r = MakeSolver("nsgs")->Solve(p, o);
     ASSERT_TRUE(r.report.converged()) << ToString(order) << " " << r.report.residual;
     for (int q = 0; q < p.NumContacts(); ++q) {
@@ -226,9 +226,9 @@ TEST(NsgsThreads, KeepTheCellBalanceAndTheirBits) {
   ASSERT_TRUE(p.cell.has_value());
   SolverOptions o;
   o.tolerance = 1e-5;
-  o.max_iterations = 200000;
+  o.nsgs.max_sweeps = 200000;
   const SolveResult one = MakeSolver("nsgs")->Solve(p, o);
-  o.threads = 2;
+  o.nsgs.threads = 2;
   const SolveResult two = MakeSolver("nsgs")->Solve(p, o);
   const SolveResult again = MakeSolver("nsgs")->Solve(p, o);
   ASSERT_TRUE(one.report.converged()) << one.report.residual;
@@ -245,7 +245,7 @@ TEST(NsgsThreads, SmallProblemsStayOnOneThread) {
   const ContactProblem p = StackProblem(50, 0.5);
   SolverOptions o;
   const SolveResult one = MakeSolver("nsgs")->Solve(p, o);
-  o.threads = 2;
+  o.nsgs.threads = 2;
   EXPECT_EQ(MakeSolver("nsgs")->Solve(p, o).impulses, one.impulses);
 }
 
@@ -266,10 +266,10 @@ TEST(Registry, UnknownBackendAndBadOptionsSayWhatIsWrong) {
     }
   };
   SolverOptions o;
-  o.relaxation = 2.5;
+  o.nsgs.relaxation = 2.5;
   expect_rejected(o, "relaxation");
   o = SolverOptions{};
-  o.threads = 0;
+  o.nsgs.threads = 0;
   expect_rejected(o, "threads");
   EXPECT_THROW(SweepOrderFromString("zigzag"), std::invalid_argument);
 }

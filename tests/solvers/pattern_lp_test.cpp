@@ -43,11 +43,11 @@ TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   const PileShift s = SmallPileShift();
   SolverOptions o;
   o.tolerance = 1e-13;
-  o.lemke_velocity_scale = s.options.gap / s.options.dt;
+  o.lemke.velocity_scale = s.options.gap / s.options.dt;
   const SolveResult path = MakeSolver("lemke")->Solve(s.problem, o);
   ASSERT_TRUE(path.report.converged()) << path.report.message;
   const PatternSolution nearest = SolveOnPattern(s.problem, path.impulses, s.problem.initial_guess,
-                                                 o.lemke_velocity_scale, 1.0);
+                                                 o.lemke.velocity_scale, 1.0);
   ASSERT_TRUE(nearest.found) << nearest.message;
   EXPECT_LT(ComputeResidual(s.problem, nearest.impulses).residual, 1e-13);
   // Another member: impulses that differ by O(1), not by the O(ξ) of the response, and
@@ -60,7 +60,7 @@ TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   // With the same motion: every end velocity within 1 % of the response of the path's.
   const Eigen::VectorXd v_path = EndVelocity(s.problem, path.impulses);
   const Eigen::VectorXd v_nearest = EndVelocity(s.problem, nearest.impulses);
-  EXPECT_LT((v_nearest - v_path).cwiseAbs().maxCoeff(), 1e-2 * o.lemke_velocity_scale);
+  EXPECT_LT((v_nearest - v_path).cwiseAbs().maxCoeff(), 1e-2 * o.lemke.velocity_scale);
   EXPECT_EQ(nearest.pattern.held, 0);
   EXPECT_GT(nearest.pattern.sliding, 0);
 }

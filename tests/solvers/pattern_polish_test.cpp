@@ -71,8 +71,8 @@ TEST(PatternPolish, HeavyOnLightGetsTheAnalyticForces) {
 TEST(PatternPolish, BringsAnUnconvergedAnswerWithTheRightPatternToTheTolerance) {
   const Scene s = testing::Stack(4, 0.5, 1.0, 0.5);
   StaticSolveOptions o;
-  o.solver.max_iterations = 3;
-  o.solver.check_interval = 1;
+  o.solver.nsgs.max_sweeps = 3;
+  o.solver.nsgs.check_interval = 1;
   const StaticProblem posed = PoseStaticProblem(s, o);
   const ContactProblem& p = posed.assembled.problem;
   const SolveResult raw = MakeSolver("nsgs")->Solve(p, o.solver);

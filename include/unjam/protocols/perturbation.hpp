@@ -83,7 +83,7 @@ struct PerturbationOptions {
   // Of the step's solutions, prefer a quasi-static one: lemke's runs go on past a solution
   // in which some grain moves fast enough to make the step dynamic (max_inertia_ratio, for
   // the lightest grain), and the first solution below that speed is reported
-  // (SolverOptions::lemke_velocity_bound). Off by default: it costs every run of lemke on
+  // (SolverOptions::lemke.velocity_bound). Off by default: it costs every run of lemke on
   // a step that has no quasi-static solution (docs/perturbations.md, "At μ = 1").
   bool prefer_quasi_static = false;
   // Before solving, an LP over the impulses alone (problem/inertia_bound.hpp) bounds from

@@ -57,7 +57,7 @@ struct RelaxOptions {
   std::string static_backend = "nsgs";  // of the static check (the steps use the simulation's)
   double static_tolerance = 1e-10;
   SweepOrder sweep_order = SweepOrder::kRandom;  // of the static solves (NSGS)
-  int threads = 1;  // of the static solves (NSGS, SolverOptions::threads)
+  int threads = 1;  // of the static solves (NSGS, SolverOptions::nsgs.threads)
   int static_max_iterations = 100000;
   int refine_max_iterations = 0;  // 3a's refining static solve; 0 = none
   bool linear_program = false;    // 3a: if the projections fail, the LP decides (slow)

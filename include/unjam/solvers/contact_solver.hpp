@@ -25,8 +25,9 @@ namespace unjam {
 // packings newton steps, as frictionless ones (docs/backends.md, docs/performance.md).
 inline constexpr double kNearlyFrictionless = 1e-4;
 
-// kRelaxedModel: the convex relaxation (SolverOptions::convex_relaxation) was solved to the
-// tolerance, but its impulses do not obey the exact Coulomb law to it (docs/backends.md).
+// kRelaxedModel: the convex relaxation (SolverOptions::de_saxce.convex_relaxation) was
+// solved to the tolerance, but its impulses do not obey the exact Coulomb law to it
+// (docs/backends.md).
 enum class SolveStatus {
   kConverged,
   kIterationLimit,
@@ -56,65 +57,113 @@ enum class NloptAlgorithm { kLbfgs, kCcsaq };  // NLOPT_LD_LBFGS, NLOPT_LD_CCSAQ
 const char* ToString(NloptAlgorithm algorithm);
 NloptAlgorithm NloptAlgorithmFromString(const std::string& name);  // throws std::invalid_argument
 
-// Options every backend reads; backend-specific ones live beside them, named for it.
-struct SolverOptions {
-  double tolerance = 1e-10;  // on the unjam residual (docs/residual.md)
-  // NSGS: sweeps. Newton: sweeps of its NSGS warm-up. ipopt, nlopt: outer iterations of
-  // the De Saxcé fixed point (one convex solve each; de_saxce.hpp).
-  int max_iterations = 100000;
-  // NSGS: over-relaxation factor in (0, 2); 1 = plain Gauss–Seidel.
+// NSGS: the nsgs backend, and newton's NSGS warm-up (which reads every field but
+// max_sweeps; NewtonParameters::warmup_max_sweeps bounds it).
+struct NsgsParameters {
+  int max_sweeps = 100000;  // sweeps over all contacts
+  // Over-relaxation factor in (0, 2); 1 = plain Gauss–Seidel.
   double relaxation = 1.0;
-  SweepOrder sweep_order = SweepOrder::kRandom;
+  SweepOrder order = SweepOrder::kRandom;
   std::uint64_t seed = 1;  // random sweep order
-  // NSGS: the true residual is evaluated every `check_interval` sweeps (it costs a sweep).
+  // The true residual is evaluated every `check_interval` sweeps (it costs a sweep).
   int check_interval = 10;
-  // NSGS on body problems: threads that sweep at once (nsgs_domains.hpp). Each takes one
+  // On body problems: threads that sweep at once (nsgs_domains.hpp). Each takes one
   // domain of the contact graph; the contacts between domains are swept after them. The
   // answer is deterministic for a given thread count, and threads = 1 is plain NSGS.
   // Problems below kParallelContacts contacts are swept on one thread whatever this says.
   int threads = 1;
-  // Newton: iteration limit (each one a sparse LU factorisation), the smallest proximal
+  // Throws std::invalid_argument naming the field, the value and the rule.
+  void Validate() const;
+};
+
+// Newton (newton.cpp).
+struct NewtonParameters {
+  // Iteration limit (each one a sparse LU factorisation), the smallest proximal
   // regularisation ε of sticking rows relative to the local Delassus diagonal, and the
   // residual to which NSGS warms up before the first Newton step (newton.cpp).
-  int newton_max_iterations = 200;
-  double newton_regularization = 1e-10;
-  double newton_warmup_tolerance = 1e-5;
-  // Newton: from the problem's warm start, up to 30 Newton iterations alone before the
-  // NSGS warm-up (the probe). On a perturbation the warm start, the static forces, is
-  // often within Newton's reach; in time stepping the previous step's impulses are not
+  int max_iterations = 200;
+  double regularization = 1e-10;
+  double warmup_tolerance = 1e-5;
+  // Sweeps of its NSGS warm-up (the limit of each round's warm-up; newton.cpp).
+  int warmup_max_sweeps = 100000;
+  // From the problem's warm start, up to 30 Newton iterations alone before the NSGS
+  // warm-up (the probe). On a perturbation the warm start, the static forces, is often
+  // within Newton's reach; in time stepping the previous step's impulses are not
   // (measured: 1.6x the time per step on a frictionless N = 200 packing). Set by the
   // perturbation protocol; off elsewhere.
-  bool newton_warm_probe = false;
-  // ipopt, nlopt: solve the convex relaxation once (no De Saxcé shift) instead of the exact
-  // Coulomb law. A different physical model: sliding contacts separate (docs/backends.md).
-  bool convex_relaxation = false;
-  // ipopt: interior-point iterations allowed to one convex solve (Ipopt's max_iter).
-  int ipopt_max_iterations = 1000;
-  // nlopt: the algorithm, and the objective-and-gradient evaluations allowed to one convex
-  // solve (NLopt's maxeval; one evaluation is two sparse products with the Jacobian).
-  NloptAlgorithm nlopt_algorithm = NloptAlgorithm::kLbfgs;
-  int nlopt_max_evaluations = 200000;
-  // lemke: first follow the homotopy from the problem's initial_guess (lemke_mlcp.hpp),
-  // then the cold path from zero impulses. Experimental: off by default.
-  bool lemke_warm_start = false;
-  // lemke: the velocity scale of the answer, which sizes the perturbed runs' perturbation
-  // (lemke.cpp); 0: the largest |velocity offset| of the problem. A perturbation sets ξ/Δt.
-  double lemke_velocity_scale = 0.0;
-  // lemke: the pivots per complementarity row that each of its runs may take before the
-  // next run is tried (all runs together stay within max_iterations); 0: 20, and 200 in
-  // the rate form (lemke.cpp).
-  int lemke_pivots_per_row = 0;
-  // lemke, in the rate form (a perturbation step, lemke_velocity_scale set), on frictional
-  // problems: the box-form path is tried before the plain and slip-speed ones (lemke.cpp).
-  bool lemke_box_rate_first = false;
-  // lemke: a solution in which some free velocity exceeds this bound (in the step's own
-  // units; 0: no bound) is not reported at once. The remaining runs are tried, and the
-  // first solution within the bound is reported; if none comes, the first solution found.
-  // A perturbation sets it to the speed above which its step is dynamic, so that of the
-  // step's solutions a quasi-static one is preferred where a run finds one (lemke.cpp).
-  double lemke_velocity_bound = 0.0;
+  bool warm_probe = false;
+  void Validate() const;  // as NsgsParameters::Validate
 };
-// Throws std::invalid_argument naming the option, the value and the rule.
+
+// The De Saxcé fixed point of ipopt and nlopt (de_saxce.hpp).
+struct DeSaxceParameters {
+  // Outer iterations of the fixed point (one convex solve each).
+  int max_outer_iterations = 100000;
+  // Solve the convex relaxation once (no De Saxcé shift) instead of the exact Coulomb law.
+  // A different physical model: sliding contacts separate (docs/backends.md).
+  bool convex_relaxation = false;
+  void Validate() const;  // as NsgsParameters::Validate
+};
+
+// ipopt's convex solves.
+struct IpoptParameters {
+  // Interior-point iterations allowed to one convex solve (Ipopt's max_iter).
+  int max_iterations = 1000;
+  void Validate() const;  // as NsgsParameters::Validate
+};
+
+// nlopt's convex solves.
+struct NloptParameters {
+  // The algorithm, and the objective-and-gradient evaluations allowed to one convex solve
+  // (NLopt's maxeval; one evaluation is two sparse products with the Jacobian).
+  NloptAlgorithm algorithm = NloptAlgorithm::kLbfgs;
+  int max_evaluations = 200000;
+  void Validate() const;  // as NsgsParameters::Validate
+};
+
+// lemke (lemke.cpp).
+struct LemkeParameters {
+  // Pivots over all its runs.
+  int max_pivots = 100000;
+  // First follow the homotopy from the problem's initial_guess (lemke_mlcp.hpp), then the
+  // cold path from zero impulses. Experimental: off by default.
+  bool warm_start = false;
+  // The velocity scale of the answer, which sizes the perturbed runs' perturbation
+  // (lemke.cpp); 0: the largest |velocity offset| of the problem. A perturbation sets ξ/Δt.
+  double velocity_scale = 0.0;
+  // The pivots per complementarity row that each of its runs may take before the next run
+  // is tried (all runs together stay within max_pivots); 0: 20, and 200 in the rate form
+  // (lemke.cpp).
+  int pivots_per_row = 0;
+  // In the rate form (a perturbation step, velocity_scale set), on frictional problems:
+  // the box-form path is tried before the plain and slip-speed ones (lemke.cpp).
+  bool box_rate_first = false;
+  // A solution in which some free velocity exceeds this bound (in the step's own units;
+  // 0: no bound) is not reported at once. The remaining runs are tried, and the first
+  // solution within the bound is reported; if none comes, the first solution found. A
+  // perturbation sets it to the speed above which its step is dynamic, so that of the
+  // step's solutions a quasi-static one is preferred where a run finds one (lemke.cpp).
+  double velocity_bound = 0.0;
+  void Validate() const;  // as NsgsParameters::Validate
+};
+
+// What a solve is asked for: the tolerance every backend reads, and each backend's own
+// parameters, which the other backends ignore.
+struct SolverOptions {
+  double tolerance = 1e-10;  // on the unjam residual (docs/residual.md)
+  NsgsParameters nsgs;
+  NewtonParameters newton;
+  DeSaxceParameters de_saxce;  // ipopt and nlopt
+  IpoptParameters ipopt;
+  NloptParameters nlopt;
+  LemkeParameters lemke;
+  // One iteration limit for whichever backend runs (`--max-iter`): NSGS sweeps, the sweeps
+  // of newton's NSGS warm-up, the De Saxcé outer iterations of ipopt and nlopt, and lemke's
+  // pivots over all its runs.
+  void SetIterationLimit(int n);
+};
+// Throws std::invalid_argument naming the option, the value and the rule: the tolerance,
+// then each backend's parameters in turn (their Validate).
 void Validate(const SolverOptions& options);
 
 struct SolveReport {
