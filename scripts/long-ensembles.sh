@@ -42,7 +42,7 @@ case "${1:-}" in
     for n in "${names[@]}"; do
       echo "$n: $(records "$n") records in $work_root/$n; unjam perturb $(recipe "$n")"
       if [ "$(records "$n")" -gt 0 ] && [ -e "$work_root/$n/bounds.csv" ]; then
-        /usr/bin/python3 "$root/scripts/records_vs_bounds.py" "$work_root/$n" "$work_root/$n/bounds.csv" | sed -n '1,3s/^/    /p'
+        /usr/bin/python3 "$root/scripts/analysis/records_vs_bounds.py" "$work_root/$n" "$work_root/$n/bounds.csv" | sed -n '1,3s/^/    /p'
       fi
     done ;;
   run)

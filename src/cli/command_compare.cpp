@@ -146,7 +146,7 @@ int RunCompare(const CompareFlags& f) {
       std::fprintf(stderr, "unjam: figures skipped: %s\n", FiguresSkippedReason());
     if (figures == FigureStatus::kFailed) {
       std::fprintf(stderr,
-                   "unjam: error: the figures were not drawn (%s scripts/plot_compare.py failed)\n",
+                   "unjam: error: the figures were not drawn (%s scripts/figures/plot_compare.py failed)\n",
                    UNJAM_PYTHON);
       rc = kInternalError;
     }

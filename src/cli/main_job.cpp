@@ -105,7 +105,7 @@ std::string TableCsv(const std::vector<Row>& rows) {
   return os.str();
 }
 
-// The PNG through scripts/plot_displacement.py (matplotlib).
+// The PNG through scripts/figures/plot_displacement.py (matplotlib).
 FigureStatus PlotField(const std::filesystem::path& dir, const PerturbationResult& r, double gap) {
   const std::string title =
       Format("contact %d-%d opened by xi = %.3g: F_crit %.5g, delta %.3g (%s)", r.target.i,
@@ -201,7 +201,7 @@ int RunMainJob(const MainJobFlags& flags) {
     case FigureStatus::kFailed:
       std::fprintf(
           stderr,
-          "unjam: error: the figure was not written (%s scripts/plot_displacement.py failed)\n",
+          "unjam: error: the figure was not written (%s scripts/figures/plot_displacement.py failed)\n",
           UNJAM_PYTHON);
       rc = kInternalError;
       break;

@@ -6,7 +6,7 @@ the interval is a bar (an arrow where it is unbounded), each run's F_crit a mark
 filled where the response is quasi-static and linear (`ok`), hollow where it is
 `dynamic`, `nonlinear` or unresolved.
 
-Usage: scripts/shifts_vs_bounds_plot.py [--floor=Y] BOUNDS_CSV OUT.png TITLE LABEL=PERTURBATIONS_CSV...
+Usage: scripts/analysis/shifts_vs_bounds_plot.py [--floor=Y] BOUNDS_CSV OUT.png TITLE LABEL=PERTURBATIONS_CSV...
   --floor=Y  cut the axis at Y: an interval that reaches below it is drawn to it with an
              arrow, as an unbounded one (on the 1600-disk pile two bottom shifts' intervals
              reach −7 000 while every F_crit is above −1)

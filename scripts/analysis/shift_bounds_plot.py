@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Figure of `unjam bounds --top/--bottom` CSVs (docs/indeterminacy.md, "Particle shifts").
 
-Usage: scripts/shift_bounds_plot.py OUT.png CSV...   (CSVs named PILE-SIDE[-...].csv)
+Usage: scripts/analysis/shift_bounds_plot.py OUT.png CSV...   (CSVs named PILE-SIDE[-...].csv)
 
 One panel per side (top, bottom): per shift, its LP interval [min, max] of F_crit as a
 vertical bar against its effective weight F_y (an unbounded min is drawn from the panel's

@@ -4,7 +4,7 @@ contact openings solved at a ladder of solver tolerances, per backend, against t
 newton result. Prints, per backend and tolerance, the largest relative change of F_crit
 and δ over the openings and the time, and the loosest tolerance at which both are within
 1 % (docs/accuracy-vs-time.md).
-Usage: scripts/tolerance_study.py UNJAM PACKING OUT_CSV [--sample N] [--seed S]
+Usage: scripts/analysis/tolerance_study.py UNJAM PACKING OUT_CSV [--sample N] [--seed S]
            [--backends nsgs,newton] [--tols 1e-4,1e-6,...]
 """
 import argparse, csv, json, os, subprocess, sys, tempfile

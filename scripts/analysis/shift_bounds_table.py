@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Markdown table of `unjam bounds --top/--bottom` CSVs (docs/indeterminacy.md, "Particle shifts").
 
-Usage: scripts/shift_bounds_table.py CSV...   (one CSV per pile and side, named PILE-SIDE.csv)
+Usage: scripts/analysis/shift_bounds_table.py CSV...   (one CSV per pile and side, named PILE-SIDE.csv)
 
 Per CSV: shifts, bounded (min and max optimal), without upper / lower bound, and over the
 bounded shifts the means with standard errors of F_y, of the stored network's F_crit, of the

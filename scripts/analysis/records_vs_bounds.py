@@ -16,7 +16,7 @@ and where each quasi-static F_crit sits in its LP interval ((F_crit − min)/(ma
 inside means within 1e-6 of it, which covers F_crit's O(ξ) inertial part on these piles).
 With a third argument, writes the joined rows as CSV.
 
-Usage: scripts/records_vs_bounds.py RECORDS BOUNDS_CSV [JOINED_CSV]
+Usage: scripts/analysis/records_vs_bounds.py RECORDS BOUNDS_CSV [JOINED_CSV]
 """
 import csv
 import json

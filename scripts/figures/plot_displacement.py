@@ -2,7 +2,7 @@
 """The displacement field of one perturbation (matplotlib): every disk drawn to scale, an
 arrow per particle along its displacement d_i, coloured by log10(|d_i| / xi), the perturbed
 contact marked with its normal.
-Usage: scripts/plot_displacement.py DISPLACEMENT_CSV OUTPUT_PNG --gap XI
+Usage: scripts/figures/plot_displacement.py DISPLACEMENT_CSV OUTPUT_PNG --gap XI
            [--origin X Y --normal NX NY] [--title TEXT]
 DISPLACEMENT_CSV is the displacement.csv of `unjam perturb -o DIR` (or of the main job).
 """

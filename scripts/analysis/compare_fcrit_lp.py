@@ -11,7 +11,7 @@ docs/perturbations.md; as `unjam bounds --compare-perturb` allows for it).
 Prints a Markdown table and a few summary lines; with a third argument, also writes the
 joined rows as CSV.
 
-Usage: scripts/compare_fcrit_lp.py PERTURB_DIR BOUNDS_CSV [JOINED_CSV]
+Usage: scripts/analysis/compare_fcrit_lp.py PERTURB_DIR BOUNDS_CSV [JOINED_CSV]
 """
 import csv
 import math

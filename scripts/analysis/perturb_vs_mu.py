@@ -11,7 +11,7 @@ of the same contact (i, j and periodic image). The averages are recomputed from 
 as `unjam perturb` computes them (quasi-static, not rattlers; the ratio's error by the
 delta method, the two means being correlated).
 
-Usage: scripts/perturb_vs_mu.py OUTPUT.png DIR[+RERUN.csv] [DIR[+RERUN.csv] ...]
+Usage: scripts/analysis/perturb_vs_mu.py OUTPUT.png DIR[+RERUN.csv] [DIR[+RERUN.csv] ...]
 """
 import csv
 import json
@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt
 
 def friction_of(packing_file):
     # summary.json names the packing as given on the command line, usually from the root.
-    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
     path = packing_file if os.path.exists(packing_file) else os.path.join(root, packing_file)
     with open(path) as f:
         for line in f:
@@ -104,9 +104,9 @@ def main():
         pts = [(xi, r[key] / r["n"]) for xi, r in zip(x, rows) if r[key] is not None]
         if pts:
             a1.plot([p[0] for p in pts], [p[1] for p in pts], marker + "-", label=label)
-    # The LP's side (scripts/bounds_vs_mu.py): contacts that no static network lets open
+    # The LP's side (scripts/analysis/bounds_vs_mu.py): contacts that no static network lets open
     # without friction; an opening of such a contact cannot be quasi-static.
-    lp_csv = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench", "results", "bounds-vs-mu.csv")
+    lp_csv = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench", "results", "bounds-vs-mu.csv")
     if os.path.exists(lp_csv):
         lp = {r["packing"]: r for r in csv.DictReader(open(lp_csv))}
         pts = [(xi, int(lp[r["packing"]]["no_frictionless_equilibrium"]) / int(lp[r["packing"]]["contacts"]))

@@ -5,7 +5,7 @@ Reads every problems/*.unjam through `unjam info --json` (and problems/logs/NAME
 steps and seconds), writes two tables into docs/packings.md (between the <!-- table --> and
 <!-- all --> markers: the N = 500 pressure series vs mu, and every bundled packing) and the
 figure docs/figures/packings-phi-z.png.
-Usage: /usr/bin/python3 scripts/packing_table.py [BUILD_DIR]
+Usage: /usr/bin/python3 scripts/analysis/packing_table.py [BUILD_DIR]
 """
 import glob
 import json
@@ -18,7 +18,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 unjam = os.path.join(sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "build"), "unjam")
 
 def info(path):

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The stability table of docs/stability.md from `unjam check ... -o DIR`'s DIR/stability.csv.
 
-Usage: scripts/stability_table.py DIR/stability.csv [MORE.csv ...] > table.md
+Usage: scripts/analysis/stability_table.py DIR/stability.csv [MORE.csv ...] > table.md
 """
 import csv
 import sys

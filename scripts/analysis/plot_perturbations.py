@@ -3,7 +3,7 @@
 power-law fit, force response |Δf_n|(r), the distribution of F_crit, F_crit against F_cont,
 the mean displacement field and the pressure change of the stress response in the contact
 frame.
-Usage: scripts/plot_perturbations.py DIR OUTPUT_PREFIX   (writes OUTPUT_PREFIX-*.png)
+Usage: scripts/analysis/plot_perturbations.py DIR OUTPUT_PREFIX   (writes OUTPUT_PREFIX-*.png)
 """
 import csv, json, math, sys
 

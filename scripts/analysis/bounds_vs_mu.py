@@ -4,11 +4,11 @@
 Runs `unjam bounds --json` on each bundled packing, writes bench/results/bounds-vs-mu.csv,
 the figure docs/figures/bounds-width-vs-mu.png (matplotlib) and the table between the
 <!-- bounds-table --> markers of docs/indeterminacy.md.
-Usage: scripts/bounds_vs_mu.py [BUILD_DIR]
+Usage: scripts/analysis/bounds_vs_mu.py [BUILD_DIR]
 """
 import csv, json, os, re, subprocess, sys
 
-root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 unjam = os.path.join(sys.argv[1] if len(sys.argv) > 1 else os.path.join(root, "build"), "unjam")
 packings = ["pressure-n500-mu0", "pressure-n500-mu0.01", "pressure-n500-mu0.1", "pressure-n500-mu0.5",
             "pressure-n500-mu1", "pressure-n500-mu10", "gravity-n100-mu0.5"]

@@ -2,12 +2,12 @@
 """One CSV row per `unjam perturb -o DIR` run: how many perturbations, how many
 not-converged, which backend decided them, and the seconds per perturbation.
 
-    scripts/perturb_solve_summary.py LABEL=DIR [LABEL=DIR ...] > bench/results/perturb-solve.csv
+    scripts/analysis/perturb_solve_summary.py LABEL=DIR [LABEL=DIR ...] > bench/results/perturb-solve.csv
 
 With --path-ends DIR: a Markdown table of how the rate path ended (the `rate path:` account
 in each record's message) against the perturbation's final status and who decided it.
 
-    scripts/perturb_solve_summary.py --path-ends DIR
+    scripts/analysis/perturb_solve_summary.py --path-ends DIR
 
 Reads DIR/records.jsonl (the records a run writes as it goes); the header line is skipped.
 """

@@ -6,7 +6,7 @@
   DIR/profiles.png         Dolan–Moré performance profiles, one panel per tolerance: for
                            each backend the fraction of problems solved within a factor τ of
                            the fastest backend's time (a problem not converged costs ∞).
-Usage: scripts/plot_compare.py DIR   (reads DIR/compare.csv)
+Usage: scripts/figures/plot_compare.py DIR   (reads DIR/compare.csv)
 """
 import csv, math, sys
 from collections import defaultdict
