@@ -145,9 +145,10 @@ int RunCompare(const CompareFlags& f) {
     if (figures == FigureStatus::kSkipped)
       std::fprintf(stderr, "unjam: figures skipped: %s\n", FiguresSkippedReason());
     if (figures == FigureStatus::kFailed) {
-      std::fprintf(stderr,
-                   "unjam: error: the figures were not drawn (%s scripts/figures/plot_compare.py failed)\n",
-                   UNJAM_PYTHON);
+      std::fprintf(
+          stderr,
+          "unjam: error: the figures were not drawn (%s scripts/figures/plot_compare.py failed)\n",
+          UNJAM_PYTHON);
       rc = kInternalError;
     }
     out["output"] = f.output_dir;

@@ -199,10 +199,10 @@ int RunMainJob(const MainJobFlags& flags) {
       std::printf("figure           skipped: %s\n", FiguresSkippedReason());
       break;
     case FigureStatus::kFailed:
-      std::fprintf(
-          stderr,
-          "unjam: error: the figure was not written (%s scripts/figures/plot_displacement.py failed)\n",
-          UNJAM_PYTHON);
+      std::fprintf(stderr,
+                   "unjam: error: the figure was not written (%s "
+                   "scripts/figures/plot_displacement.py failed)\n",
+                   UNJAM_PYTHON);
       rc = kInternalError;
       break;
   }
