@@ -12,8 +12,25 @@
 
 namespace unjam {
 
-SolveResult SolveOnStates(const ContactProblem& p, const Eigen::VectorXd& start,
-                          const std::vector<ContactState>& states) {
+namespace {
+
+// What the step's system is made of whatever the pattern: assembled once for all the
+// correction rounds of one SolveOnPattern.
+struct StepParts {
+  explicit StepParts(const ContactProblem& p)
+      : h(AssembleJacobian(p)), h_rows(h), inv_mass(InverseMassDiagonal(p)),
+        offset(VelocityOffset(p)), v_free(FreeVelocityVector(p)) {
+    for (Eigen::Index d = 0; d < inv_mass.size(); ++d)
+      mass_scale = std::max(mass_scale, 1.0 / inv_mass[d]);
+  }
+  Eigen::SparseMatrix<double> h;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> h_rows;
+  Eigen::VectorXd inv_mass, offset, v_free;
+  double mass_scale = 0.0;
+};
+
+SolveResult SolveOnStates(const ContactProblem& p, const StepParts& parts,
+                          const Eigen::VectorXd& start, const std::vector<ContactState>& states) {
   using Triplet = Eigen::Triplet<double>;
   const int stride = p.UnknownsPerContact();
   Eigen::VectorXd impulses = start;
@@ -51,10 +68,10 @@ SolveResult SolveOnStates(const ContactProblem& p, const Eigen::VectorXd& start,
   const int dofs = p.NumDofs(), comps = static_cast<int>(velocity_rows.size());
   Eigen::SparseMatrix<double> e_matrix(p.NumUnknowns(), comps);
   e_matrix.setFromTriplets(e.begin(), e.end());
-  const Eigen::SparseMatrix<double> h = AssembleJacobian(p);
+  const Eigen::SparseMatrix<double>& h = parts.h;
   const Eigen::SparseMatrix<double> hte = h.transpose() * e_matrix;
-  const Eigen::VectorXd inv_mass = InverseMassDiagonal(p);
-  const Eigen::VectorXd offset = VelocityOffset(p);
+  const Eigen::VectorXd& inv_mass = parts.inv_mass;
+  const Eigen::VectorXd& offset = parts.offset;
 
   // [ M   −HᵀE ] [v]   [M v_free + Hᵀ r]
   // [ H_s  −εI ] [λ] = [ −offset_s ]      (ε only fixes λ along the pattern's self-stresses)
@@ -64,13 +81,10 @@ SolveResult SolveOnStates(const ContactProblem& p, const Eigen::VectorXd& start,
     for (Eigen::SparseMatrix<double>::InnerIterator it(hte, col); it; ++it)
       a.emplace_back(static_cast<int>(it.row()), dofs + col, -it.value());
   }
-  const Eigen::SparseMatrix<double, Eigen::RowMajor> h_rows = h;
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& h_rows = parts.h_rows;
   Eigen::VectorXd rhs(dofs + comps);
-  const Eigen::VectorXd v_free = FreeVelocityVector(p);
-  rhs.head(dofs) = v_free.cwiseQuotient(inv_mass) + h.transpose() * impulses;
-  double mass_scale = 0.0;
-  for (int d = 0; d < dofs; ++d) mass_scale = std::max(mass_scale, 1.0 / inv_mass[d]);
-  const double regularisation = 1e-14 * mass_scale;
+  rhs.head(dofs) = parts.v_free.cwiseQuotient(inv_mass) + h.transpose() * impulses;
+  const double regularisation = 1e-14 * parts.mass_scale;
   for (int r = 0; r < comps; ++r) {
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(
              h_rows, velocity_rows[static_cast<std::size_t>(r)]);
@@ -107,6 +121,13 @@ SolveResult SolveOnStates(const ContactProblem& p, const Eigen::VectorXd& start,
   out.report.residual = ComputeResidual(p, out.impulses).residual;
   out.report.status = SolveStatus::kConverged;
   return out;
+}
+
+}  // namespace
+
+SolveResult SolveOnStates(const ContactProblem& p, const Eigen::VectorXd& start,
+                          const std::vector<ContactState>& states) {
+  return SolveOnStates(p, StepParts(p), start, states);
 }
 
 bool CorrectStates(const ContactProblem& p, const SolveResult& r, const std::vector<char>& frozen,
