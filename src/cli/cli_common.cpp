@@ -167,13 +167,13 @@ std::string EffectsSummary(const Scene& s) {
   return out.empty() ? "none (frictionless, no load)" : out;
 }
 
-PerturbationTarget ShiftOption(const PerturbationBase& base, bool down, int particle) {
-  try {
-    return ParticleShift(base, particle, Vec2(0.0, down ? -1.0 : 1.0));
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string(down ? "--shift-down " : "--shift-up ") +
-                                std::to_string(particle) + ": " + e.what());
-  }
+std::optional<ShiftSelection> ShiftFlags::Selection() const {
+  using Kind = ShiftSelection::Kind;
+  if (top) return ShiftSelection{Kind::kTop};
+  if (bottom) return ShiftSelection{Kind::kBottom};
+  if (down) return ShiftSelection{Kind::kDown, *down};
+  if (up) return ShiftSelection{Kind::kUp, *up};
+  return std::nullopt;
 }
 
 }  // namespace unjam::cli

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -95,8 +96,14 @@ const char* PeriodicityName(Periodicity p);
 
 int RunInfo(const std::string& path, bool json);
 
-// `--shift-down P` or `--shift-up P` (perturb, bounds): particle P pushed down or up; a
-// particle that does not exist or is fixed is refused naming the option.
-PerturbationTarget ShiftOption(const PerturbationBase& base, bool down, int particle);
+// `--top`, `--bottom`, `--shift-down P`, `--shift-up P` (perturb, bounds): which particle
+// shifts are asked for. The library chooses and checks them (ShiftTargets).
+struct ShiftFlags {
+  bool top = false, bottom = false;
+  std::optional<int> down, up;  // particle P
+  int Given() const { return top + bottom + down.has_value() + up.has_value(); }
+  // The selection of the flag given (the first, were several); none without one.
+  std::optional<ShiftSelection> Selection() const;
+};
 
 }  // namespace unjam::cli

@@ -28,16 +28,17 @@ void BoundsFlags::Register(CLI::App& a) {
                    "all, or K,K,... (the K-th force-carrying contact in the file's force order)")
           ->capture_default_str();
   CLI::Option* top_option = a.add_flag(
-      "--top", top,
+      "--top", shifts.top,
       "instead of contacts, bound the critical force of each top shift of a pile (the particles "
       "`unjam perturb --top` pushes down): min and max of F_crit over the admissible networks");
-  CLI::Option* bottom_option = a.add_flag(
-      "--bottom", bottom, "the same for the bottom shifts (`unjam perturb --bottom`, pushed up)");
+  CLI::Option* bottom_option =
+      a.add_flag("--bottom", shifts.bottom,
+                 "the same for the bottom shifts (`unjam perturb --bottom`, pushed up)");
   CLI::Option* down_option =
-      a.add_option("--shift-down", shift_down,
+      a.add_option("--shift-down", shifts.down,
                    "the same for particle P alone, pushed down (`unjam perturb --shift-down P`)");
   CLI::Option* up_option =
-      a.add_option("--shift-up", shift_up,
+      a.add_option("--shift-up", shifts.up,
                    "the same for particle P alone, pushed up (`unjam perturb --shift-up P`)");
   const std::vector<CLI::Option*> selections = {contacts_option, top_option, bottom_option,
                                                 down_option, up_option};

@@ -17,11 +17,8 @@ namespace unjam::cli {
 struct BoundsFlags {
   std::string file;
   std::string contacts = "all";
-  bool top = false;  // particle shifts instead of contacts (RunShiftBounds)
-  bool bottom = false;
-  std::optional<int> shift_down;  // one particle's shift (RunShiftBounds)
-  std::optional<int> shift_up;
-  bool Shifts() const { return top || bottom || shift_down || shift_up; }
+  ShiftFlags shifts;  // particle shifts instead of contacts (RunShiftBounds)
+  bool Shifts() const { return shifts.Given() > 0; }
   std::string lp = "clp";
   bool cold = false;
   bool compare_perturb = false;

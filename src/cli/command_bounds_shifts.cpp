@@ -129,25 +129,29 @@ nlohmann::json MeanOrNull(const Means& m, double value) {
   return m.bounded > 0 ? NumberOrNull(value) : nlohmann::json(nullptr);
 }
 
-// The shifts the flags ask for, and how the summary names them.
-struct ShiftSelection {
+// The shifts the flags ask for (chosen by the library, as for `unjam perturb`), and how the
+// summary names them.
+struct SelectedShifts {
   std::vector<PerturbationTarget> targets;
   std::string side;         // JSON "side": top, bottom, down or up
   std::string description;  // the summary's line
 };
 
-ShiftSelection SelectShifts(const BoundsFlags& f, const PerturbationBase& base) {
-  if (f.top) return {TopTargets(base), "top", "top (pushed down)"};
-  if (f.bottom) return {BottomTargets(base), "bottom", "bottom (pushed up)"};
-  const bool down = f.shift_down.has_value();
-  const int particle = down ? *f.shift_down : *f.shift_up;
-  return {{ShiftOption(base, down, particle)},
-          down ? "down" : "up",
-          "of particle " + std::to_string(particle) + (down ? " (pushed down)" : " (pushed up)")};
+SelectedShifts SelectShifts(const ShiftSelection& selection, const PerturbationBase& base) {
+  std::vector<PerturbationTarget> targets = ShiftTargets(base, selection);
+  const std::string particle = "of particle " + std::to_string(selection.particle);
+  switch (selection.kind) {
+    case ShiftSelection::Kind::kTop: return {std::move(targets), "top", "top (pushed down)"};
+    case ShiftSelection::Kind::kBottom: return {std::move(targets), "bottom", "bottom (pushed up)"};
+    case ShiftSelection::Kind::kDown:
+      return {std::move(targets), "down", particle + " (pushed down)"};
+    case ShiftSelection::Kind::kUp: return {std::move(targets), "up", particle + " (pushed up)"};
+  }
+  return {};
 }
 
 // The text summary of a run.
-void PrintShiftBounds(const ShiftSelection& selection, std::size_t shifts,
+void PrintShiftBounds(const SelectedShifts& selection, std::size_t shifts,
                       const ShiftBoundsReport& report, const Means& m,
                       const std::optional<ShiftComparison>& cmp, double seconds, bool cold) {
   std::printf("shifts             %zu %s\n", shifts, selection.description.c_str());
@@ -196,7 +200,7 @@ int RunShiftBounds(const BoundsFlags& f) {
             " -o FILE` first");
   }
   const PerturbationBase base = PreparePerturbations(scene, PerturbationOptions{});
-  const ShiftSelection selection = SelectShifts(f, base);
+  const SelectedShifts selection = SelectShifts(*f.shifts.Selection(), base);
   const std::vector<PerturbationTarget>& targets = selection.targets;
   const EquilibriumSystem system = BuildEquilibriumSystem(scene, so);
   std::vector<ShiftTarget> shifts;

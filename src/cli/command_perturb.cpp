@@ -36,11 +36,12 @@ void PerturbFlags::Register(CLI::App& a) {
   a.add_flag("--all", all, "open every force-carrying contact, one by one");
   a.add_option("--sample", sample, "open N contacts drawn at random (see --seed)");
   a.add_option("--seed", seed, "seed of --sample")->capture_default_str();
-  a.add_flag("--top", top, "gravity packings: push the highest particle of each bin down");
-  a.add_flag("--bottom", bottom, "gravity packings: push the lowest particle of each bin up");
-  a.add_option("--shift-down", shift_down,
+  a.add_flag("--top", shifts.top, "gravity packings: push the highest particle of each bin down");
+  a.add_flag("--bottom", shifts.bottom,
+             "gravity packings: push the lowest particle of each bin up");
+  a.add_option("--shift-down", shifts.down,
                "push particle P (0-based, in the file's order) down by xi");
-  a.add_option("--shift-up", shift_up, "push particle P (0-based, in the file's order) up by xi");
+  a.add_option("--shift-up", shifts.up, "push particle P (0-based, in the file's order) up by xi");
   a.add_option("--mode", mode, "contact opening: fixed-pressure or fixed-volume")
       ->capture_default_str();
   a.add_option("--gap", gap, "perturbation size xi (gap opened, or shift), length units")
@@ -125,20 +126,14 @@ struct Selection {
 };
 
 Selection SelectTargets(const PerturbFlags& f, const PerturbationBase& base) {
-  const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.top + f.bottom +
-                     f.shift_down.has_value() + f.shift_up.has_value();
+  const int chosen = f.contact.has_value() + f.all + f.sample.has_value() + f.shifts.Given();
   if (chosen != 1) {
     throw std::invalid_argument(
         "choose exactly one of --contact, --all, --sample, --top, --bottom, --shift-down, "
         "--shift-up");
   }
-  if (f.top) return {TopTargets(base), "top"};
-  if (f.bottom) return {BottomTargets(base), "bottom"};
-  if (f.shift_down)
-    return {{ShiftOption(base, true, *f.shift_down)},
-            "shift-down " + std::to_string(*f.shift_down)};
-  if (f.shift_up)
-    return {{ShiftOption(base, false, *f.shift_up)}, "shift-up " + std::to_string(*f.shift_up)};
+  if (const std::optional<ShiftSelection> shifts = f.shifts.Selection())
+    return {ShiftTargets(base, *shifts), ToString(*shifts)};
   std::vector<PerturbationTarget> contacts = ContactTargets(base);
   if (f.all) return {contacts, "all"};
   if (f.sample) {

@@ -19,9 +19,7 @@ struct PerturbFlags {
   bool all = false;
   std::optional<int> sample;  // --sample N
   std::uint64_t seed = 1;
-  bool top = false, bottom = false;
-  std::optional<int> shift_down;  // --shift-down P
-  std::optional<int> shift_up;    // --shift-up P
+  ShiftFlags shifts;  // --top, --bottom, --shift-down P, --shift-up P
   std::string mode = "fixed-pressure";
   double gap = 1e-9;
   double dt = 1.0;

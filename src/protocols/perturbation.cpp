@@ -915,6 +915,30 @@ std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base) {
   return PerBin(base, Vec2(0.0, 1.0), [](double y, double best) { return y < best; });
 }
 
+std::string ToString(const ShiftSelection& selection) {
+  const std::string particle = std::to_string(selection.particle);
+  switch (selection.kind) {
+    case ShiftSelection::Kind::kTop: return "top";
+    case ShiftSelection::Kind::kBottom: return "bottom";
+    case ShiftSelection::Kind::kDown: return "shift-down " + particle;
+    case ShiftSelection::Kind::kUp: return "shift-up " + particle;
+  }
+  return "";
+}
+
+std::vector<PerturbationTarget> ShiftTargets(const PerturbationBase& base,
+                                             const ShiftSelection& selection) {
+  if (selection.kind == ShiftSelection::Kind::kTop) return TopTargets(base);
+  if (selection.kind == ShiftSelection::Kind::kBottom) return BottomTargets(base);
+  const Vec2 direction(0.0, selection.kind == ShiftSelection::Kind::kDown ? -1.0 : 1.0);
+  try {
+    return {ParticleShift(base, selection.particle, direction)};
+  } catch (const std::invalid_argument& e) {
+    // ParticleShift names the particle; the user needs to know which option gave it.
+    throw std::invalid_argument("--" + ToString(selection) + ": " + e.what());
+  }
+}
+
 void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
                 const PerturbationOptions& options, const PerturbSchedule& schedule,
                 const std::function<void(int, const PerturbationResult&)>& on_result) {

@@ -332,6 +332,53 @@ TEST(Perturbation, ShiftingADiskOnFixedSupports) {
   EXPECT_THROW(ParticleShift(base, 3, Vec2(0.0, 1.0)), std::invalid_argument);  // no such particle
 }
 
+// Two columns on fixed disks, periodic in x and two diameters wide each: one bin per column.
+// Left: fixed 0, free 1 and 2 above it; right: fixed 3, free 4.
+Scene TwoColumns() {
+  Scene s;
+  s.cell.size = Vec2(4.4, 20.0);
+  s.cell.periodicity = Periodicity::kX;
+  s.effects.gravity = Vec2(0.0, -1.0);
+  s.particles = {Disk(1.0, 1.0, 1.0, true), Disk(1.0, 3.0, 1.0), Disk(1.0, 5.0, 1.0),
+                 Disk(3.2, 1.0, 1.0, true), Disk(3.2, 3.0, 1.0)};
+  return WithStaticForces(s);
+}
+
+// The selection `perturb` and `bounds` share: per bin the highest free disk pushed down
+// (top) or the lowest free one pushed up (bottom), in bin order; one named particle down or
+// up, refused naming the option when fixed or missing.
+TEST(Perturbation, ShiftSelectionsPickPerBinOrTheNamedParticle) {
+  const PerturbationBase base = PreparePerturbations(TwoColumns(), PerturbationOptions{});
+  using Kind = ShiftSelection::Kind;
+  auto picked = [&](ShiftSelection selection) {
+    std::vector<std::pair<int, double>> out;  // particle, vertical direction
+    for (const PerturbationTarget& t : ShiftTargets(base, selection)) {
+      EXPECT_EQ(t.kind, PerturbationTarget::Kind::kParticleShift);
+      EXPECT_EQ(t.direction.x(), 0.0);
+      out.emplace_back(t.i, t.direction.y());
+    }
+    return out;
+  };
+  using Picks = std::vector<std::pair<int, double>>;
+  EXPECT_EQ(picked({Kind::kTop}), (Picks{{2, -1.0}, {4, -1.0}}));
+  EXPECT_EQ(picked({Kind::kBottom}), (Picks{{1, 1.0}, {4, 1.0}}));
+  EXPECT_EQ(picked({Kind::kDown, 2}), (Picks{{2, -1.0}}));
+  EXPECT_EQ(picked({Kind::kUp, 1}), (Picks{{1, 1.0}}));
+  EXPECT_EQ(ToString(ShiftSelection{Kind::kTop}), "top");
+  EXPECT_EQ(ToString(ShiftSelection{Kind::kDown, 2}), "shift-down 2");
+  auto refusal = [&](ShiftSelection selection) {
+    try {
+      ShiftTargets(base, selection);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal({Kind::kDown, 3}), "--shift-down 3: particle 3 is fixed and cannot be shifted");
+  EXPECT_EQ(refusal({Kind::kUp, 5}),
+            "--shift-up 5: particle 5 does not exist: the packing has 5 particles (0..4)");
+}
+
 TEST(Perturbation, ResultsDoNotDependOnTheThreadCount) {
   const Scene scene = VGroove(1.3);
   PerturbationOptions o;

@@ -238,6 +238,23 @@ std::vector<PerturbationTarget> BottomTargets(const PerturbationBase& base);
 // One particle shifted along a unit `direction` (any packing; std::invalid_argument for a
 // particle that does not exist or is fixed, naming it).
 PerturbationTarget ParticleShift(const PerturbationBase& base, int particle, Vec2 direction);
+
+// The particle shifts that `unjam perturb` and `unjam bounds` both take: --top, --bottom,
+// --shift-down P, --shift-up P. Both commands choose them here, so that a shift's row is the
+// same in both (and `--shift-down P` gives the row `--top` gives P).
+struct ShiftSelection {
+  enum class Kind { kTop, kBottom, kDown, kUp };
+  Kind kind = Kind::kTop;
+  int particle = -1;  // kDown and kUp: the particle pushed
+};
+// The selection as its option reads without the dashes: "top", "bottom", "shift-down P",
+// "shift-up P".
+std::string ToString(const ShiftSelection& selection);
+// The targets of a selection: TopTargets or BottomTargets, or the one ParticleShift down or
+// up. A particle that does not exist or is fixed is refused (std::invalid_argument) naming
+// the option: "--shift-down 3: particle 3 is fixed and cannot be shifted".
+std::vector<PerturbationTarget> ShiftTargets(const PerturbationBase& base,
+                                             const ShiftSelection& selection);
 // F_y of particle p in the static state: the sum of the positive vertical components of the
 // contact forces on it (a shift's reference force).
 double EffectiveWeightOf(const PerturbationBase& base, int p);
