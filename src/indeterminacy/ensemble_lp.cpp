@@ -1,10 +1,6 @@
 #include "ensemble_lp.hpp"
 
-#include <algorithm>
-#include <exception>
 #include <limits>
-#include <thread>
-#include <vector>
 
 namespace unjam::indeterminacy_internal {
 
@@ -60,30 +56,6 @@ void Simplex(ClpSimplex& model, bool dual_first, int keep, bool confirm, long lo
   if (dual_first) model.primal();
   else model.dual();
   iterations += model.numberIterations();
-}
-
-void RunBlocks(int blocks, const std::function<void(int)>& run_block) {
-  if (blocks == 1) {
-    run_block(0);
-    return;
-  }
-  // An exception of a block (e.g. its records cannot be written) is rethrown here, after
-  // every thread has ended, instead of ending the process from inside a thread.
-  std::vector<std::exception_ptr> failures(std::max(blocks, 0));
-  std::vector<std::thread> pool;
-  for (int b = 0; b < blocks; ++b) {
-    pool.emplace_back([&, b] {
-      try {
-        run_block(b);
-      } catch (...) {
-        failures[b] = std::current_exception();
-      }
-    });
-  }
-  for (std::thread& t : pool) t.join();
-  for (const std::exception_ptr& failure : failures) {
-    if (failure) std::rethrow_exception(failure);
-  }
 }
 
 }  // namespace unjam::indeterminacy_internal

@@ -5,7 +5,6 @@
 // Internal to src/indeterminacy.
 #pragma once
 
-#include <functional>
 #include <memory>
 #include <vector>
 
@@ -37,8 +36,5 @@ Bound Outcome(ClpSimplex& model, double sign, double scale);
 // from an optimal basis after one bound is fixed, is common (hundreds of contacts per
 // packing) and is not.
 void Simplex(ClpSimplex& model, bool dual_first, int keep, bool confirm, long long& iterations);
-
-// Runs run_block(0 … blocks − 1), each block on its own thread (on this one if only one).
-void RunBlocks(int blocks, const std::function<void(int)>& run_block);
 
 }  // namespace unjam::indeterminacy_internal

@@ -14,6 +14,7 @@
 
 #include "ensemble_lp.hpp"
 #include "ipopt_lp.hpp"
+#include "unjam/parallel/for_each_index.hpp"
 
 namespace unjam {
 
@@ -258,7 +259,11 @@ BoundsReport ComputeForceBounds(const EquilibriumSystem& system, const std::vect
       }
     }
   };
-  indeterminacy_internal::RunBlocks(own_last - own_first, [&](int b) { run_block(own_first + b); });
+  // One thread per block: each block's LPs warm-start one another in a fixed order, so a
+  // block's bounds do not depend on which thread runs it.
+  const int own_blocks = own_last - own_first;
+  parallel::ForEachIndex(own_blocks, parallel::OnThreads(own_blocks),
+                         [&](int b) { run_block(own_first + b); });
   for (long long i : iterations) report.lp_iterations += i;
   for (long long i : skipped) report.lps_skipped += i;
   for (long long i : known) report.bounds_known += i;

@@ -10,6 +10,7 @@
 #include <ClpSimplex.hpp>
 
 #include "ensemble_lp.hpp"
+#include "unjam/parallel/for_each_index.hpp"
 
 namespace unjam {
 
@@ -147,7 +148,7 @@ ShiftBoundsReport ComputeShiftBounds(const EquilibriumSystem& system,
         BoundShift(own, system, lps[a], options, report.bounds[a], iterations[block]);
       }
     };
-    indeterminacy_internal::RunBlocks(blocks, run_block);
+    parallel::ForEachIndex(blocks, parallel::OnThreads(blocks), run_block);  // a thread each
     for (long long i : iterations) report.lp_iterations += i;
   }
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -3,19 +3,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
-#include <deque>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <random>
 #include <stdexcept>
-#include <thread>
 
 #include "perturbation_rate.hpp"
 #include "unjam/analysis/equilibrium.hpp"
+#include "unjam/parallel/for_each_index.hpp"
 #include "unjam/problem/inertia_bound.hpp"
 #include "unjam/problem/kinematic_admissibility.hpp"
 #include "unjam/protocols/static_solve.hpp"
@@ -942,80 +940,25 @@ std::vector<PerturbationTarget> ShiftTargets(const PerturbationBase& base,
 void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,
                 const PerturbationOptions& options, const PerturbSchedule& schedule,
                 const std::function<void(int, const PerturbationResult&)>& on_result) {
-  const int n = static_cast<int>(targets.size());
-  auto may_start = [&] {
-    return !schedule.start_before || std::chrono::steady_clock::now() < *schedule.start_before;
-  };
-  if (schedule.threads <= 1) {  // in order, here, each result reported as soon as it exists
-    for (int k = 0; k < n && may_start(); ++k) on_result(k, Perturb(base, targets[k], options));
-    return;
-  }
-  // Workers take targets in order until none is left or the budget is spent (`closed`);
-  // this thread reports the results and frees each once reported, so only results that
-  // wait for an earlier one (target order) are held.
-  std::vector<std::optional<PerturbationResult>> results(n);
-  std::deque<int> finished;  // results not yet reported, in the order they finished
-  std::mutex mutex;
-  std::condition_variable ready;
-  int started = 0;
-  bool closed = false;
-  std::exception_ptr failure;
-  auto work = [&] {
-    for (;;) {
-      int k = 0;
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (closed || started == n || !may_start()) {
-          closed = true;
-          ready.notify_all();
-          return;
-        }
-        k = started++;
-      }
-      std::optional<PerturbationResult> r;
-      try {
-        r = Perturb(base, targets[k], options);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!failure) failure = std::current_exception();
-        closed = true;
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      results[k] = std::move(r);
-      if (results[k]) finished.push_back(k);
-      ready.notify_all();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 0; t < schedule.threads; ++t) pool.emplace_back(work);
-  for (int reported = 0;; ++reported) {
-    std::unique_lock<std::mutex> lock(mutex);
-    // Target order reports target `reported` next; as finished, the oldest finished one.
-    auto next_ready = [&] {
-      return schedule.as_finished ? !finished.empty() : results[reported].has_value();
+  parallel::Schedule pool;
+  pool.threads = schedule.threads;
+  pool.as_finished = schedule.as_finished;
+  if (schedule.start_before) {
+    pool.may_start = [at = *schedule.start_before] {
+      return std::chrono::steady_clock::now() < at;
     };
-    ready.wait(lock, [&] {
-      return failure || (closed && reported == started) || (reported < n && next_ready());
-    });
-    if (failure || !(reported < n && next_ready())) break;
-    const int k = schedule.as_finished ? finished.front() : reported;
-    if (schedule.as_finished) finished.pop_front();
-    PerturbationResult r = std::move(*results[k]);
-    results[k].reset();
-    lock.unlock();
-    try {
-      on_result(k, r);
-    } catch (...) {
-      // The caller could not take the result (e.g. its records file): stop the workers
-      // after the perturbations they are solving, join them, and pass the error on.
-      std::lock_guard<std::mutex> relock(mutex);
-      if (!failure) failure = std::current_exception();
-      closed = true;
-      break;
-    }
   }
-  for (std::thread& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
+  // Each result is held from when it exists until it is reported, then freed: only results
+  // that wait for an earlier one (target order) are held.
+  std::vector<std::optional<PerturbationResult>> results(targets.size());
+  parallel::ForEachIndex(
+      static_cast<int>(targets.size()), pool,
+      [&](int k) { results[k] = Perturb(base, targets[k], options); },
+      [&](int k) {
+        const PerturbationResult r = std::move(*results[k]);
+        results[k].reset();
+        on_result(k, r);
+      });
 }
 
 void PerturbAll(const PerturbationBase& base, const std::vector<PerturbationTarget>& targets,

@@ -19,7 +19,8 @@ import sys
 # own folder and every folder of a lower layer; folders of one layer are independent of
 # each other. A new folder under include/unjam/ or src/ must be added here.
 LAYERS = [
-    ("scene", "lp"),               # plain data of a scene; the LP builder loaded into CLP
+    ("scene", "lp", "parallel"),   # plain data of a scene; the LP builder loaded into CLP;
+                                   # the worker threads of the library
     ("contacts",),                 # contact detection
     ("problem",),                  # assembly of the ContactProblem, Delassus form, LPs of a step
     ("solvers",),                  # backends, residual, pattern LP, rate path
