@@ -71,6 +71,8 @@ Coordination FromCounts(const Scene& scene, const std::vector<int>& count, int c
     }
   }
   out.z = carrying > 0 ? static_cast<double>(ends) / carrying : 0.0;
+  const int free = carrying + out.rattlers;
+  out.z_with_rattlers = free > 0 ? static_cast<double>(ends) / free : 0.0;
   return out;
 }
 }  // namespace

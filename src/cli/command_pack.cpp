@@ -156,7 +156,7 @@ std::string Number(double x) {
 }
 
 // The command line that remakes the packing, every parameter spelled out.
-std::string Provenance(const nlohmann::json& p) {
+std::string ProvenanceOf(const nlohmann::json& p) {
   std::string line = "unjam pack";
   for (const auto& [key, value] : p.items()) {
     if (key == "unjam") continue;
@@ -305,6 +305,8 @@ std::string PackFlags::Order() const {
   return order.value_or(protocol == "gravity" ? "height" : "random");
 }
 
+std::string PackFlags::Provenance() const { return ProvenanceOf(Parameters()); }
+
 // Threads change the order of the sweeps, hence the packing: the count is a parameter of
 // the packing, stored unless it is 1 (as files made before the option were).
 int PackFlags::Threads() const { return ThreadsFromOption(threads); }
@@ -327,7 +329,7 @@ int RunPack(const PackFlags& f) {
   step.solver.nsgs.order = SweepOrderFromString(f.Order());
   step.solver.nsgs.threads = f.Threads();
   Scene scene = InitialScene(f);
-  scene.provenance = Provenance(parameters);
+  scene.provenance = ProvenanceOf(parameters);
   Simulation sim(scene, step);
   RelaxOptions relax;
   relax.step_tolerance = f.StepTolerance();

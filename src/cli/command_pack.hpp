@@ -47,6 +47,9 @@ struct PackFlags {
   int StepIterations() const;    // --step-iter, or the protocol's default
   std::string Order() const;     // --order, or the protocol's default
   int Threads() const;           // --threads with 0 resolved to the cores
+  // The command line that remakes the packing, every parameter spelled out, and the version
+  // that made it: "unjam pack --backend ... (unjam 0.1.0)", stored in the file.
+  std::string Provenance() const;
 };
 
 int RunPack(const PackFlags& flags);

@@ -14,6 +14,7 @@
 #include "command_pack.hpp"
 #include "command_perturb.hpp"
 #include "command_solve.hpp"
+#include "command_study.hpp"
 #include "main_job.hpp"
 #include "mpi_session.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -68,6 +69,13 @@ int Run(int argc, char** argv) {
                                        "error, overlap and energy at rest");
   check_flags.Register(*check);
 
+  StudyFlags study_flags;
+  CLI::App* study = app.add_subcommand(
+      "study",
+      "the friction study from one configuration: packings, perturbations, bounds, "
+      "tables, figures and a report (resumable)");
+  study_flags.Register(*study);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -102,6 +110,7 @@ int Run(int argc, char** argv) {
     if (*bounds) return RunBounds(bounds_flags);
     if (*compare) return RunCompare(compare_flags);
     if (*check) return RunCheck(check_flags);
+    if (*study) return RunStudy(study_flags);
     return RunMainJob(main_job);
   } catch (const unjam::InputError& e) {
     std::fprintf(stderr, "unjam: error: %s\n", e.what());

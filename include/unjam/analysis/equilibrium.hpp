@@ -35,8 +35,9 @@ EquilibriumReport CheckEquilibrium(const Scene& scene, const std::vector<Contact
 // carrying contacts of a non-rattler. A contact with a fixed disk or a wall counts
 // for the free particle only.
 struct Coordination {
-  double z = 0.0;
-  int rattlers = 0;  // free particles without any force-carrying contact
+  double z = 0.0;                // contacts per particle that carries force (rattlers excluded)
+  double z_with_rattlers = 0.0;  // contacts per free particle, rattlers included
+  int rattlers = 0;              // free particles without any force-carrying contact
   int force_carrying_contacts = 0;
 };
 Coordination ComputeCoordination(const Scene& scene, const std::vector<Contact>& contacts,

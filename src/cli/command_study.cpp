@@ -1,0 +1,306 @@
+#include "command_study.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_common.hpp"
+#include "command_bounds.hpp"
+#include "command_pack.hpp"
+#include "command_perturb.hpp"
+#include "study_outputs.hpp"
+#include "unjam/io/output_lock.hpp"
+#include "unjam/io/packing_file.hpp"
+#include "unjam/io/read_text.hpp"
+#include "unjam/protocols/perturbation.hpp"
+
+namespace unjam::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// The commands a study runs print their own summaries on stdout; the study prints one
+// report instead, so their stdout goes nowhere while they run (stderr stays: progress and
+// errors).
+class QuietStdout {
+ public:
+  QuietStdout() {
+    std::fflush(stdout);
+    saved_ = dup(STDOUT_FILENO);
+    std::FILE* null = std::fopen("/dev/null", "w");
+    if (saved_ >= 0 && null != nullptr) dup2(fileno(null), STDOUT_FILENO);
+    if (null != nullptr) std::fclose(null);
+  }
+  ~QuietStdout() {
+    std::fflush(stdout);
+    if (saved_ >= 0) {
+      dup2(saved_, STDOUT_FILENO);
+      close(saved_);
+    }
+  }
+  QuietStdout(const QuietStdout&) = delete;
+  QuietStdout& operator=(const QuietStdout&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
+// One resumable piece of work: done() says whether an earlier run finished it.
+struct Step {
+  std::string kind;  // pack, perturb, bounds: steps of one kind take alike times
+  std::string label;
+  std::function<bool()> done;
+  std::function<int()> run;  // an exit code (ExitCode)
+};
+
+PackFlags PackFlagsOf(const StudyPacking& p, bool quiet) {
+  PackFlags f;
+  f.protocol = p.key.protocol;
+  f.n = p.key.n;
+  f.mu = p.key.mu;
+  f.seed = p.seed;
+  if (p.key.protocol == "gravity") f.width = p.key.width;
+  else f.pressure = p.key.pressure;
+  f.output = p.file.string();
+  f.json = true;
+  f.quiet = quiet;
+  return f;
+}
+
+// The command part of a provenance line, without "(unjam VERSION)": a packing made by
+// another version from the same parameters is the same packing.
+std::string CommandOf(const std::string& provenance) {
+  return provenance.substr(0, provenance.rfind(" (unjam "));
+}
+
+bool PackingDone(const StudyPacking& p) {
+  if (!fs::exists(p.file)) return false;
+  const std::string want = CommandOf(PackFlagsOf(p, true).Provenance());
+  const std::string have = CommandOf(ReadPacking(p.file.string()).provenance);
+  if (have != want) {
+    throw InputError(p.file.string(), 0,
+                     "is cached for other parameters: it was made by `" + have +
+                         "`, the study needs `" + want +
+                         "`; move it away or choose another "
+                         "\"packings\" folder");
+  }
+  return true;
+}
+
+bool PerturbationsDone(const StudyRunPlan& r) {
+  const fs::path summary = r.dir / "summary.json";
+  if (!fs::exists(summary)) return false;
+  const nlohmann::json s = nlohmann::json::parse(ReadInputText(summary), nullptr, false);
+  return s.is_object() && s.value("complete", false);
+}
+
+PerturbFlags PerturbFlagsOf(const StudyPacking& p, const StudyRunPlan& r, int threads, bool quiet) {
+  PerturbFlags f;
+  f.file = p.file.string();
+  if (r.kind == "top") f.shifts.top = true;
+  else if (r.kind == "bottom") f.shifts.bottom = true;
+  else {
+    f.sample = r.openings;
+    f.seed = p.seed;
+    f.mode = r.kind;
+  }
+  f.solver.backend = "auto";
+  f.solver.backend_may_be_auto = true;
+  f.threads = threads;
+  f.output_dir = r.dir.string();
+  f.json = true;
+  f.quiet = quiet;
+  return f;
+}
+
+// The contacts `perturb --sample N --seed S` opens, as `bounds --contacts` numbers them.
+std::string OpenedContacts(const StudyPacking& p, const StudyRunPlan& r) {
+  const Scene scene = ReadPacking(p.file.string());
+  PerturbationOptions options;
+  options.cell = CellConditionFromString(r.kind);
+  const PerturbationBase base = PreparePerturbations(scene, options);
+  const std::vector<PerturbationTarget> all = ContactTargets(base);
+  const std::vector<PerturbationTarget> opened = SampleTargets(all, r.openings, p.seed);
+  std::string list;
+  for (const PerturbationTarget& t : opened) {
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      if (all[k].i == t.i && all[k].j == t.j && all[k].image == t.image) {
+        list += (list.empty() ? "" : ",") + std::to_string(k);
+        break;
+      }
+    }
+  }
+  return list;
+}
+
+BoundsFlags BoundsFlagsOf(const StudyPacking& p, const StudyRunPlan& r, int threads, bool quiet) {
+  BoundsFlags f;
+  f.file = p.file.string();
+  if (r.kind == "top") f.shifts.top = true;
+  else if (r.kind == "bottom") f.shifts.bottom = true;
+  else f.contacts = OpenedContacts(p, r);
+  f.threads = threads;
+  f.output = r.bounds_csv.string();
+  f.json = true;
+  f.quiet = quiet;
+  return f;
+}
+
+std::vector<Step> StepsOf(const StudyPlan& plan, bool quiet) {
+  std::vector<Step> steps;
+  for (const StudyPacking& p : plan.packings) {
+    steps.push_back({"pack", "pack " + p.name, [&p] { return PackingDone(p); },
+                     [&p, quiet] {
+                       fs::create_directories(p.file.parent_path());
+                       const QuietStdout silence;
+                       return RunPack(PackFlagsOf(p, quiet));
+                     }});
+  }
+  for (const StudyRunPlan& r : plan.runs) {
+    const StudyPacking& p = plan.packings[r.packing];
+    steps.push_back({"perturb", "perturb " + p.name + " " + r.kind,
+                     [&r] { return PerturbationsDone(r); },
+                     [&p, &r, &plan, quiet] {
+                       const QuietStdout silence;
+                       return RunPerturb(PerturbFlagsOf(p, r, plan.threads, quiet));
+                     }});
+    if (!r.bounds) continue;
+    const bool shared = std::any_of(steps.begin(), steps.end(), [&](const Step& s) {
+      return s.label == "bounds " + r.bounds_csv.filename().string() + " " + p.name;
+    });
+    if (shared) continue;  // the openings' bounds, done for the first mode
+    steps.push_back({"bounds", "bounds " + r.bounds_csv.filename().string() + " " + p.name,
+                     [&r] { return fs::exists(r.bounds_csv); },
+                     [&p, &r, &plan, quiet] {
+                       const QuietStdout silence;
+                       return RunBounds(BoundsFlagsOf(p, r, plan.threads, quiet));
+                     }});
+  }
+  return steps;
+}
+
+void PrintPlan(const StudyPlan& plan, const std::vector<Step>& steps) {
+  std::printf("study %s%s: %zu packings, %zu runs, %zu steps; output %s\n",
+              plan.config.file.c_str(),
+              plan.config.size.empty() ? "" : (" --size " + plan.config.size).c_str(),
+              plan.packings.size(), plan.runs.size(), steps.size(), plan.output.c_str());
+  for (const Step& s : steps) std::printf("  %s %s\n", s.done() ? "done" : "todo", s.label.c_str());
+}
+
+std::string Duration(double seconds) {
+  if (seconds < 120) return Format("%.0f s", seconds);
+  if (seconds < 7200) return Format("%.1f min", seconds / 60);
+  return Format("%.1f h", seconds / 3600);
+}
+
+// Time left: each kind's steps still to do at that kind's mean time so far in this run.
+class StepClock {
+ public:
+  void Add(const std::string& kind, double seconds) {
+    total_[kind] += seconds;
+    ++count_[kind];
+  }
+  std::string Remaining(const std::vector<Step>& steps) const {
+    double seconds = 0.0;
+    std::string unknown;
+    std::map<std::string, int> left;
+    for (const Step& s : steps)
+      if (!s.done()) ++left[s.kind];
+    for (const auto& [kind, n] : left) {
+      const auto it = count_.find(kind);
+      if (it == count_.end()) unknown += (unknown.empty() ? "" : ", ") + kind;
+      else seconds += total_.at(kind) / it->second * n;
+    }
+    if (left.empty()) return "nothing left";
+    return "about " + Duration(seconds) + " left" +
+           (unknown.empty() ? "" : " besides the " + unknown + " steps (not timed yet)");
+  }
+
+ private:
+  std::map<std::string, double> total_;
+  std::map<std::string, int> count_;
+};
+
+}  // namespace
+
+void StudyFlags::Register(CLI::App& app) {
+  app.add_option("CONFIG", config, "study configuration (JSON, docs/friction-study.md)")
+      ->required();
+  app.add_option("--size", size, "a variant of the configuration's \"sizes\" (e.g. small, paper)");
+  app.add_option("-o,--output", output, "results folder (default: the configuration's \"output\")");
+  app.add_option("--threads", threads, "threads of the perturbations and bounds (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--plan", plan_only, "list the steps (done or to do) and stop");
+  app.add_flag("--quiet", quiet, "no progress on stderr");
+}
+
+int RunStudy(const StudyFlags& f) {
+  const auto start = Clock::now();
+  StudyConfig config = ReadStudyConfig(f.config, f.size);
+  const int threads = ThreadsFromOption(f.threads.value_or(config.threads));
+  const StudyPlan plan = MakeStudyPlan(std::move(config), f.output, threads);
+  const std::vector<Step> steps = StepsOf(plan, f.quiet);
+  if (f.plan_only) {
+    PrintPlan(plan, steps);
+    return kOk;
+  }
+  fs::create_directories(plan.output);
+  const OutputLock lock(plan.output / ".study.lock", plan.output.string());
+  WriteFileAtomically(plan.output / "study.json", plan.config.resolved.dump(2) + "\n");
+
+  int done = 0, worst = kOk;
+  StepClock clock;
+  for (const Step& s : steps) {
+    if (s.done()) {
+      ++done;
+      continue;
+    }
+    const auto step_start = Clock::now();
+    if (!f.quiet) std::fprintf(stderr, "study: %s\n", s.label.c_str());
+    const int code = s.run();
+    clock.Add(s.kind, std::chrono::duration<double>(Clock::now() - step_start).count());
+    if (code != kOk || !s.done()) {
+      std::fprintf(stderr, "study: %s did not finish (exit %d); the study goes on without it\n",
+                   s.label.c_str(), code);
+      worst = std::max(worst, code == kOk ? int{kNotConverged} : code);
+      continue;
+    }
+    ++done;
+    if (!f.quiet) {
+      std::fprintf(stderr, "study: %d of %zu steps done; %s\n", done, steps.size(),
+                   clock.Remaining(steps).c_str());
+    }
+  }
+
+  std::vector<StudyRun> runs;
+  for (const StudyRunPlan& r : plan.runs) {
+    if (!PerturbationsDone(r) || (r.bounds && !fs::exists(r.bounds_csv))) continue;
+    runs.push_back(ReadStudyRun(plan, r));
+  }
+  const std::vector<StudyRow> rows = AggregateStudy(runs);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  WriteStudyTables(plan, runs, rows, seconds);
+  const FigureStatus figures = RunPlotScript("plot_study.py", {plan.output.string()});
+  std::printf("study %s: %d of %zu steps done, %zu runs in the tables; %s\n", plan.output.c_str(),
+              done, steps.size(), runs.size(), (plan.output / "report.md").c_str());
+  if (figures == FigureStatus::kSkipped)
+    std::printf("figures skipped: %s\n", FiguresSkippedReason());
+  else if (figures == FigureStatus::kFailed)
+    std::fprintf(
+        stderr, "unjam study: the figures were not drawn (scripts/figures/plot_study.py failed)\n");
+  if (done != static_cast<int>(steps.size())) {
+    std::fprintf(stderr, "study: %zu steps left; the same command continues\n",
+                 steps.size() - static_cast<std::size_t>(done));
+  }
+  return worst;
+}
+
+}  // namespace unjam::cli
