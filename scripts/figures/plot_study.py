@@ -289,8 +289,8 @@ def gravity_vs_mu(rows, out):
 
 
 def main():
-    # Empty bins and all-zero fields of small studies are drawn as gaps, not warned about.
-    warnings.filterwarnings("ignore", category=RuntimeWarning)
+    # Empty bins, all-zero fields and empty legends of small studies: drawn as gaps, not warned about.
+    warnings.filterwarnings("ignore")
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     study = sys.argv[1]

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +15,7 @@
 #include "command_bounds.hpp"
 #include "command_pack.hpp"
 #include "command_perturb.hpp"
+#include "mpi_session.hpp"
 #include "study_outputs.hpp"
 #include "unjam/io/output_lock.hpp"
 #include "unjam/io/packing_file.hpp"
@@ -180,6 +182,7 @@ std::vector<Step> StepsOf(const StudyPlan& plan, bool quiet) {
     steps.push_back({"bounds", "bounds " + r.bounds_csv.filename().string() + " " + p.name,
                      [&r] { return fs::exists(r.bounds_csv); },
                      [&p, &r, &plan, quiet] {
+                       fs::create_directories(r.bounds_csv.parent_path());
                        const QuietStdout silence;
                        return RunBounds(BoundsFlagsOf(p, r, plan.threads, quiet));
                      }});
@@ -242,52 +245,77 @@ void StudyFlags::Register(CLI::App& app) {
   app.add_flag("--quiet", quiet, "no progress on stderr");
 }
 
-int RunStudy(const StudyFlags& f) {
-  const auto start = Clock::now();
-  StudyConfig config = ReadStudyConfig(f.config, f.size);
-  const int threads = ThreadsFromOption(f.threads.value_or(config.threads));
-  const StudyPlan plan = MakeStudyPlan(std::move(config), f.output, threads);
-  const std::vector<Step> steps = StepsOf(plan, f.quiet);
-  if (f.plan_only) {
-    PrintPlan(plan, steps);
-    return kOk;
-  }
-  fs::create_directories(plan.output);
-  const OutputLock lock(plan.output / ".study.lock", plan.output.string());
-  WriteFileAtomically(plan.output / "study.json", plan.config.resolved.dump(2) + "\n");
+namespace {
 
+// Where this process stands in an mpirun: whole steps are divided among the ranks (each
+// step's own command then runs as one process), packings first, with a barrier after the
+// packings and after the rest; rank 0 writes the tables.
+struct Ranks {
+  MpiSession* mpi = nullptr;
+  int rank = 0, size = 1;
+  bool Mine(std::size_t index) const { return static_cast<int>(index % size) == rank; }
+  int Barrier(int status) const { return mpi != nullptr ? mpi->WorstStatus(status) : status; }
+};
+
+// The commands of a step see no MPI session: the study divides its steps, not their work.
+class WithoutMpi {
+ public:
+  WithoutMpi() : saved_(CurrentMpiSession()) { SetCurrentMpiSession(nullptr); }
+  ~WithoutMpi() { SetCurrentMpiSession(saved_); }
+  WithoutMpi(const WithoutMpi&) = delete;
+  WithoutMpi& operator=(const WithoutMpi&) = delete;
+
+ private:
+  MpiSession* saved_;
+};
+
+struct Progress {
   int done = 0, worst = kOk;
   StepClock clock;
-  for (const Step& s : steps) {
+};
+
+// Runs one step unless an earlier run finished it. Under several ranks an error is a code,
+// not an exception, so that every rank reaches the barriers.
+void RunStep(const Step& s, const std::vector<Step>& steps, const Ranks& ranks, bool quiet,
+             Progress& p) {
+  const std::string who = ranks.size > 1 ? Format("study[rank %d]", ranks.rank) : "study";
+  int code = kOk;
+  try {
     if (s.done()) {
-      ++done;
-      continue;
+      ++p.done;
+      return;
     }
     const auto step_start = Clock::now();
-    if (!f.quiet) std::fprintf(stderr, "study: %s\n", s.label.c_str());
-    const int code = s.run();
-    clock.Add(s.kind, std::chrono::duration<double>(Clock::now() - step_start).count());
-    if (code != kOk || !s.done()) {
-      std::fprintf(stderr, "study: %s did not finish (exit %d); the study goes on without it\n",
-                   s.label.c_str(), code);
-      worst = std::max(worst, code == kOk ? int{kNotConverged} : code);
-      continue;
+    if (!quiet) std::fprintf(stderr, "%s: %s\n", who.c_str(), s.label.c_str());
+    const WithoutMpi single;
+    code = s.run();
+    p.clock.Add(s.kind, std::chrono::duration<double>(Clock::now() - step_start).count());
+    if (code == kOk && s.done()) {
+      ++p.done;
+      if (!quiet)
+        std::fprintf(stderr, "%s: %d of %zu steps done; %s\n", who.c_str(), p.done, steps.size(),
+                     p.clock.Remaining(steps).c_str());
+      return;
     }
-    ++done;
-    if (!f.quiet) {
-      std::fprintf(stderr, "study: %d of %zu steps done; %s\n", done, steps.size(),
-                   clock.Remaining(steps).c_str());
-    }
+  } catch (const std::exception& e) {
+    if (ranks.size == 1) throw;
+    std::fprintf(stderr, "%s: error: %s\n", who.c_str(), e.what());
+    code = dynamic_cast<const InputError*>(&e) != nullptr ? int{kInputError} : int{kInternalError};
   }
+  std::fprintf(stderr, "%s: %s did not finish (exit %d); the study goes on without it\n",
+               who.c_str(), s.label.c_str(), code);
+  p.worst = std::max(p.worst, code == kOk ? int{kNotConverged} : code);
+}
 
+int WriteOutputs(const StudyPlan& plan, const std::vector<Step>& steps, double seconds) {
   std::vector<StudyRun> runs;
+  int done = 0;
+  for (const Step& s : steps) done += s.done() ? 1 : 0;
   for (const StudyRunPlan& r : plan.runs) {
     if (!PerturbationsDone(r) || (r.bounds && !fs::exists(r.bounds_csv))) continue;
     runs.push_back(ReadStudyRun(plan, r));
   }
-  const std::vector<StudyRow> rows = AggregateStudy(runs);
-  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  WriteStudyTables(plan, runs, rows, seconds);
+  WriteStudyTables(plan, runs, AggregateStudy(runs), seconds);
   const FigureStatus figures = RunPlotScript("plot_study.py", {plan.output.string()});
   std::printf("study %s: %d of %zu steps done, %zu runs in the tables; %s\n", plan.output.c_str(),
               done, steps.size(), runs.size(), (plan.output / "report.md").c_str());
@@ -300,6 +328,45 @@ int RunStudy(const StudyFlags& f) {
     std::fprintf(stderr, "study: %zu steps left; the same command continues\n",
                  steps.size() - static_cast<std::size_t>(done));
   }
+  return done;
+}
+
+}  // namespace
+
+int RunStudy(const StudyFlags& f) {
+  const auto start = Clock::now();
+  StudyConfig config = ReadStudyConfig(f.config, f.size);
+  const int threads = ThreadsFromOption(f.threads.value_or(config.threads));
+  const StudyPlan plan = MakeStudyPlan(std::move(config), f.output, threads);
+  const std::vector<Step> steps = StepsOf(plan, f.quiet);
+  Ranks ranks;
+  ranks.mpi = CurrentMpiSession();
+  if (ranks.mpi != nullptr) {
+    ranks.rank = ranks.mpi->rank();
+    ranks.size = ranks.mpi->size();
+  }
+  if (f.plan_only) {
+    if (ranks.rank == 0) PrintPlan(plan, steps);
+    return kOk;
+  }
+  fs::create_directories(plan.output);
+  std::optional<OutputLock> lock;  // rank 0 holds it for the whole mpirun
+  if (ranks.rank == 0) {
+    lock.emplace(plan.output / ".study.lock", plan.output.string());
+    WriteFileAtomically(plan.output / "study.json", plan.config.resolved.dump(2) + "\n");
+  }
+  if (ranks.Barrier(kOk) != kOk) return kInputError;  // rank 0 could not take the study
+
+  Progress progress;
+  const std::size_t packs = plan.packings.size();  // StepsOf: the packings first
+  for (std::size_t k = 0; k < packs; ++k)
+    if (ranks.Mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
+  progress.worst = ranks.Barrier(progress.worst);
+  for (std::size_t k = packs; k < steps.size(); ++k)
+    if (ranks.Mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
+  const int worst = ranks.Barrier(progress.worst);
+  if (ranks.rank != 0) return worst;
+  WriteOutputs(plan, steps, std::chrono::duration<double>(Clock::now() - start).count());
   return worst;
 }
 

@@ -90,10 +90,11 @@ int Run(int argc, char** argv) {
   }
   try {
     const MpiSession* mpi = CurrentMpiSession();
-    if (mpi != nullptr && mpi->size() > 1 && !*perturb && !(*bounds && !bounds_flags.Shifts())) {
+    if (mpi != nullptr && mpi->size() > 1 && !*perturb && !*study &&
+        !(*bounds && !bounds_flags.Shifts())) {
       throw std::invalid_argument(
-          "only `unjam perturb` and `unjam bounds` on contacts divide their work among MPI ranks; "
-          "run other commands without mpirun");
+          "only `unjam perturb`, `unjam study` and `unjam bounds` on contacts divide their work "
+          "among MPI ranks; run other commands without mpirun");
     }
     const bool main_job_options =
         app.count("--sample") + app.count("--seed") + app.count("--out") + app.count("--threads") >

@@ -48,6 +48,6 @@ cmp -s <(cut -d, -f1-24 "$work/one/perturbations.csv") <(cut -d, -f1-24 "$work/c
 "${mpirun[@]}" "$unjam" perturb "$pile" --top >/dev/null 2>"$work/noout.err"; code=$?
 [ "$code" -ne 0 ] && grep -q "under mpirun, -o DIR is needed" "$work/noout.err" || fail "mpirun perturb without -o: exit $code, $(head -c 300 "$work/noout.err")"
 "${mpirun[@]}" "$unjam" info "$pile" >/dev/null 2>"$work/info.err"; code=$?
-[ "$code" -ne 0 ] && grep -q "only \`unjam perturb\` and \`unjam bounds\` on contacts divide their work" "$work/info.err" || fail "mpirun info: exit $code, $(head -c 300 "$work/info.err")"
+[ "$code" -ne 0 ] && grep -q "only \`unjam perturb\`, \`unjam study\` and \`unjam bounds\` on contacts divide their work" "$work/info.err" || fail "mpirun info: exit $code, $(head -c 300 "$work/info.err")"
 
 finish cli_perturb_mpi
