@@ -72,6 +72,7 @@ PackFlags PackFlagsOf(const StudyPacking& p, bool quiet) {
   if (p.key.protocol == "gravity") f.width = p.key.width;
   else f.pressure = p.key.pressure;
   f.output = p.file.string();
+  f.max_steps = p.max_steps;
   f.json = true;
   f.quiet = quiet;
   return f;

@@ -31,11 +31,14 @@ std::string PackingName(const StudyKey& k, std::uint64_t seed) {
                 Short(k.mu).c_str(), static_cast<unsigned long long>(seed));
 }
 
-int AddPacking(StudyPlan& plan, StudyKey key, std::uint64_t seed) {
+int AddPacking(StudyPlan& plan, StudyKey key, std::uint64_t seed, int max_steps) {
   const std::string name = PackingName(key, seed);
-  for (std::size_t p = 0; p < plan.packings.size(); ++p)
-    if (plan.packings[p].name == name) return static_cast<int>(p);
-  plan.packings.push_back({key, seed, name, plan.config.packings / (name + ".unjam")});
+  for (std::size_t p = 0; p < plan.packings.size(); ++p) {
+    if (plan.packings[p].name != name) continue;
+    plan.packings[p].max_steps = std::max(plan.packings[p].max_steps, max_steps);
+    return static_cast<int>(p);
+  }
+  plan.packings.push_back({key, seed, name, max_steps, plan.config.packings / (name + ".unjam")});
   return static_cast<int>(plan.packings.size()) - 1;
 }
 
@@ -398,7 +401,7 @@ StudyPlan MakeStudyPlan(StudyConfig config, const std::string& output_override, 
     for (double mu : set.mu) {
       for (std::uint64_t seed : set.seeds) {
         StudyKey key{"pressure", set.n, kNoValue, set.pressure, mu, ""};
-        const int p = AddPacking(plan, key, seed);
+        const int p = AddPacking(plan, key, seed, set.max_steps);
         const fs::path dir = runs / plan.packings[p].name;
         for (const std::string& mode : set.modes)
           AddRun(plan, {p, mode, set.openings, set.bounds, dir / ("openings-" + mode),
@@ -410,7 +413,7 @@ StudyPlan MakeStudyPlan(StudyConfig config, const std::string& output_override, 
     for (double mu : set.mu) {
       for (std::uint64_t seed : set.seeds) {
         StudyKey key{"gravity", set.n, set.width, kNoValue, mu, ""};
-        const int p = AddPacking(plan, key, seed);
+        const int p = AddPacking(plan, key, seed, set.max_steps);
         const fs::path dir = runs / plan.packings[p].name;
         for (const std::string& side : set.sides)
           AddRun(plan, {p, side, 0, set.bounds, dir / ("shifts-" + side),

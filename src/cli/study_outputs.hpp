@@ -16,7 +16,8 @@ namespace unjam::cli {
 struct StudyPacking {
   StudyKey key;  // kind left empty
   std::uint64_t seed = 0;
-  std::string name;  // e.g. pressure-n500-p1-mu0.5-seed1
+  std::string name;         // e.g. pressure-n500-p1-mu0.5-seed1
+  int max_steps = 1000000;  // the largest of the sets that list it
   std::filesystem::path file;
 };
 

@@ -143,7 +143,7 @@ std::vector<std::pair<Json, std::vector<std::string>>> Sets(const ConfigReader& 
 
 PressureSet ReadPressureSet(const ConfigReader& r, const Json& j,
                             const std::vector<std::string>& at) {
-  r.OnlyKeys(j, at, {"n", "pressure", "mu", "seeds", "openings", "modes", "bounds"});
+  r.OnlyKeys(j, at, {"n", "pressure", "mu", "seeds", "openings", "modes", "bounds", "max_steps"});
   for (const char* key : {"mu", "seeds", "openings"})
     if (!j.contains(key)) r.Fail(at, std::string("needs \"") + key + "\"");
   auto key = [&](const char* k) { return ConfigReader::Append(at, k); };
@@ -156,12 +156,13 @@ PressureSet ReadPressureSet(const ConfigReader& r, const Json& j,
   if (j.contains("modes"))
     s.modes = r.Names(j["modes"], key("modes"), {"fixed-pressure", "fixed-volume"});
   if (j.contains("bounds")) s.bounds = r.Boolean(j["bounds"], key("bounds"));
+  if (j.contains("max_steps")) s.max_steps = r.Integer(j["max_steps"], key("max_steps"), 1);
   return s;
 }
 
 GravitySet ReadGravitySet(const ConfigReader& r, const Json& j,
                           const std::vector<std::string>& at) {
-  r.OnlyKeys(j, at, {"n", "width", "mu", "seeds", "shifts", "bounds"});
+  r.OnlyKeys(j, at, {"n", "width", "mu", "seeds", "shifts", "bounds", "max_steps"});
   for (const char* key : {"mu", "seeds"})
     if (!j.contains(key)) r.Fail(at, std::string("needs \"") + key + "\"");
   auto key = [&](const char* k) { return ConfigReader::Append(at, k); };
@@ -172,6 +173,7 @@ GravitySet ReadGravitySet(const ConfigReader& r, const Json& j,
   s.seeds = r.Seeds(j["seeds"], key("seeds"));
   if (j.contains("shifts")) s.sides = r.Names(j["shifts"], key("shifts"), {"top", "bottom"});
   if (j.contains("bounds")) s.bounds = r.Boolean(j["bounds"], key("bounds"));
+  if (j.contains("max_steps")) s.max_steps = r.Integer(j["max_steps"], key("max_steps"), 1);
   return s;
 }
 

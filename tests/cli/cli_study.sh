@@ -11,7 +11,7 @@ cat >"$work/tiny.json" <<JSON
   "description": "tiny",
   "output": "$work/study",
   "threads": 1,
-  "pressure": {"n": 30, "mu": [0, 0.5], "seeds": [1], "openings": 4},
+  "pressure": {"n": 30, "mu": [0, 0.5], "seeds": [1], "openings": 4, "max_steps": 20000},
   "gravity": {"n": 12, "width": 8, "mu": [0.5], "seeds": [1]}
 }
 JSON

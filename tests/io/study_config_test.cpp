@@ -35,7 +35,7 @@ constexpr const char* kStudy = R"({
   "output": "out/s",
   "pressure": [{"n": 500, "mu": [0, 0.5], "seeds": [1, 2], "openings": 20}],
   "gravity": {"n": 200, "width": 8, "mu": [0.1], "seeds": [3], "shifts": ["top"]},
-  "sizes": {"tiny": {"output": "out/t", "pressure": {"n": 30, "mu": [0.5], "seeds": [1],
+  "sizes": {"tiny": {"output": "out/t", "pressure": {"n": 30, "mu": [0.5], "seeds": [1], "max_steps": 9,
                                                      "openings": 3}}}
 })";
 
@@ -50,6 +50,7 @@ TEST_F(StudyConfigTest, ReadsSetsWithTheirDefaults) {
   EXPECT_EQ(c.pressure[0].pressure, 1.0);
   EXPECT_EQ(c.pressure[0].modes, (std::vector<std::string>{"fixed-pressure"}));
   EXPECT_TRUE(c.pressure[0].bounds);
+  EXPECT_EQ(c.pressure[0].max_steps, 1000000);
   ASSERT_EQ(c.gravity.size(), 1u);
   EXPECT_EQ(c.gravity[0].width, 8.0);
   EXPECT_EQ(c.gravity[0].sides, (std::vector<std::string>{"top"}));
@@ -62,6 +63,7 @@ TEST_F(StudyConfigTest, ASizeIsAMergePatch) {
   ASSERT_EQ(c.pressure.size(), 1u);
   EXPECT_EQ(c.pressure[0].n, 30);
   EXPECT_EQ(c.pressure[0].openings, 3);
+  EXPECT_EQ(c.pressure[0].max_steps, 9);
   EXPECT_EQ(c.gravity.size(), 1u);  // untouched by the patch
   EXPECT_EQ(c.resolved["output"], "out/t");
 }

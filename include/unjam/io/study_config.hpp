@@ -21,6 +21,7 @@ struct PressureSet {
   int openings = 0;  // contacts opened per packing, drawn with the packing's seed
   std::vector<std::string> modes{"fixed-pressure"};  // fixed-pressure, fixed-volume
   bool bounds = true;                                // the LP interval of every opened contact
+  int max_steps = 1000000;  // `unjam pack --max-steps`: a packing not static by then is left out
 };
 
 // Piles settled under gravity on a rough bed, perturbed by top and bottom shifts.
@@ -30,7 +31,8 @@ struct GravitySet {
   std::vector<double> mu;
   std::vector<std::uint64_t> seeds;
   std::vector<std::string> sides{"top", "bottom"};
-  bool bounds = true;  // the LP interval of every shift's critical force
+  bool bounds = true;       // the LP interval of every shift's critical force
+  int max_steps = 1000000;  // `unjam pack --max-steps`
 };
 
 struct StudyConfig {
