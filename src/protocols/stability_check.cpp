@@ -54,9 +54,7 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   if (polish) result = PolishOnPattern(problem, result, solver.tolerance);
   Solved out;
   out.impulses = result.impulses;
-  double residual = result.report.residual;
   if (AllFinite(result.impulses)) {
-    residual = ComputeResidual(problem, result.impulses).residual;
     try {
       out.siconos_error = SiconosError(ToDelassusProblem(problem), result.impulses);
     } catch (const std::exception&) {
@@ -68,7 +66,6 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   out.contacts = static_cast<int>(s.contacts.size());
   out.equilibrium = s.equilibrium.residual;
   out.report = s.report;
-  out.report.residual = residual;
   out.forces = ToContactForces(s);
   return out;
 }

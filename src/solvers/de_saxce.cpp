@@ -30,7 +30,6 @@
 #include "de_saxce.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -131,7 +130,6 @@ SolveResult Unsupported(const DelassusProblem& p, const std::string& backend,
   result.impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
   result.report.backend = backend;
   result.report.status = SolveStatus::kUnsupported;
-  result.report.residual = ComputeResidual(p, result.impulses).residual;
   result.report.message = "backend '" + backend + "' refuses this problem: " + why;
   return result;
 }
@@ -286,7 +284,7 @@ std::string Number(double x) {
 template <class Problem>
 SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outcome, int solves,
                    int library_iterations, const SolverOptions& o, const std::string& backend,
-                   const ConvexStepSolver& step, std::chrono::steady_clock::time_point start) {
+                   const ConvexStepSolver& step) {
   SolveResult result;
   result.impulses = chosen.impulses;
   SolveReport& report = result.report;
@@ -306,7 +304,6 @@ SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outco
     const std::string count = std::to_string(library_iterations) + " " + step.IterationName();
     report.message += (report.message.empty() ? "" : "; ") + count;
   }
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
@@ -315,14 +312,13 @@ SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outco
 template <class Problem>
 SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std::string& backend,
                             ConvexStepSolver& step) {
-  const auto start = std::chrono::steady_clock::now();
   const ConvexLaw law(p);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.NumUnknowns());
-  if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step, start);
+  if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step);
   const ConvexStep s = step.Solve(zero, InitialImpulses(p), kInnerSafety * o.tolerance);
   if (!s.impulses.allFinite()) {
     return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o,
-                  backend, step, start);
+                  backend, step);
   }
   const Iterate solution = Polished(p, law, s.impulses, zero);
   const double own = law.Residual(solution.impulses, Posed(p, solution.impulses), zero);
@@ -339,15 +335,13 @@ SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std:
                "convex relaxation not solved to the tolerance (its own residual " + Number(own) +
                    ", " + s.library_status + ")"};
   }
-  return Finish(p, solution, outcome, 1, s.iterations, o, backend, step, start);
+  return Finish(p, solution, outcome, 1, s.iterations, o, backend, step);
 }
 
 template <class Problem>
 SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::string& backend,
                        ConvexStepSolver& step) {
-  Validate(o);
   if (o.de_saxce.convex_relaxation) return SolveRelaxation(p, o, backend, step);
-  const auto start = std::chrono::steady_clock::now();
   const ConvexLaw law(p);
   Iterate best{InitialImpulses(p), 0.0};
   best.residual = ComputeResidual(p, best.impulses).residual;
@@ -402,7 +396,7 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::stri
       break;
     }
   }
-  return Finish(p, best, outcome, solves, library_iterations, o, backend, step, start);
+  return Finish(p, best, outcome, solves, library_iterations, o, backend, step);
 }
 
 }  // namespace

@@ -426,7 +426,6 @@ std::string RunAccount(const Run& run, const lemke_internal::LemkeResult& lemke,
 template <class Problem>
 SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o,
                        const std::string& name) {
-  const auto start = std::chrono::steady_clock::now();
   const int unknowns = static_cast<int>(k.h.rows());
   if (unknowns == 0) {  // no contact: nothing to pivot, the empty impulse vector solves it
     SolveResult empty;
@@ -529,21 +528,16 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   if (!report.converged() && pivots >= o.lemke.max_pivots)
     report.status = SolveStatus::kIterationLimit;
   report.message = "Lemke: " + history;
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
 }  // namespace
 
-SolveResult LemkeSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult LemkeSolver::DoSolve(const ContactProblem& p, const SolverOptions& options) {
   return SolveLemke(p, MatrixFormOf(p), options, Name());
 }
 
-SolveResult LemkeSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult LemkeSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
   return SolveLemke(p, MatrixFormOf(p), options, Name());
 }
 

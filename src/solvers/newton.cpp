@@ -393,7 +393,6 @@ Iterate Start(const ContactProblem& p, const SolverOptions& options, const std::
 // The whole method on either problem form (see the top of the file).
 template <class Problem>
 SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const std::string& name) {
-  const auto start = std::chrono::steady_clock::now();
   SolveResult result;
   SolveReport& report = result.report;
   report.backend = name;
@@ -451,21 +450,16 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
   if (sweeps > 0)
     report.message +=
         (report.message.empty() ? "" : "; ") + std::to_string(sweeps) + " NSGS warm-up sweeps";
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
 }  // namespace
 
-SolveResult NewtonSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult NewtonSolver::DoSolve(const ContactProblem& p, const SolverOptions& options) {
   return SolveNewton(p, options, Name());
 }
 
-SolveResult NewtonSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult NewtonSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
   return SolveNewton(p, options, Name());
 }
 

@@ -318,16 +318,12 @@ double ImpulseScale(const Problem& p) {
 
 }  // namespace
 
-SolveResult NloptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult NloptSolver::DoSolve(const ContactProblem& p, const SolverOptions& options) {
   NloptStep step(p, options, ImpulseScale(p), std::make_unique<const BodyDelassus>(p));
   return SolveByDeSaxceFixedPoint(p, options, Name(), step);
 }
 
-SolveResult NloptSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult NloptSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
   const std::string not_convex = NotConvexOf(p);
   if (!not_convex.empty()) return Unsupported(p, Name(), not_convex);
   NloptStep step(p, options, ImpulseScale(p), std::make_unique<const StoredDelassus>(p));

@@ -474,10 +474,7 @@ void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layou
 
 }  // namespace
 
-SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  const auto start = std::chrono::steady_clock::now();
+SolveResult NsgsSolver::DoSolve(const ContactProblem& p, const SolverOptions& options) {
   const Layout layout = MakeLayout(p, options.nsgs.order);
   SolveResult result;
   result.report.backend = Name();
@@ -485,8 +482,6 @@ SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& opti
     SolveOnOneThread(p, options, layout, result);
   else if (p.frictional) SolveInDomains<true>(p, options, layout, result);
   else SolveInDomains<false>(p, options, layout, result);
-  result.report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -9,8 +9,11 @@ namespace unjam {
 class NsgsSolver final : public ContactSolver {
  public:
   std::string Name() const override { return "nsgs"; }
-  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
-  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;
+
+ private:
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem,
+                              const SolverOptions& options) override;
 };
 
 }  // namespace unjam

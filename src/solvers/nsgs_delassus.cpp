@@ -114,10 +114,7 @@ class DelassusSweeper {
 
 }  // namespace
 
-SolveResult NsgsSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  const auto start = std::chrono::steady_clock::now();
+SolveResult NsgsSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
   DelassusSweeper sweeper(p, options.nsgs.relaxation);
   SolveResult result;
   result.report.backend = Name();
@@ -125,8 +122,6 @@ SolveResult NsgsSolver::SolveDelassus(const DelassusProblem& p, const SolverOpti
   auto residual = [&] { return ComputeResidual(p, sweeper.impulses()).residual; };
   solvers_internal::RunSweeps(p.NumContacts(), options, sweep, residual, result.report);
   result.impulses = sweeper.impulses();
-  result.report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

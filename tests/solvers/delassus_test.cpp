@@ -105,7 +105,7 @@ TEST(ToDelassus, FrictionlessProblemGetsObservingTangentRowsWithZeroFriction) {
 TEST(SolveDelassus, DefaultRefusesWithUnsupportedAndNamesTheBackend) {
   struct BodyOnly final : ContactSolver {
     std::string Name() const override { return "body-only"; }
-    SolveResult Solve(const ContactProblem&, const SolverOptions&) override { return {}; }
+    SolveResult DoSolve(const ContactProblem&, const SolverOptions&) override { return {}; }
   };
   const SolveResult r = BodyOnly().SolveDelassus(Diagonal(-1.0, 0.4, 1.0), SolverOptions{});
   EXPECT_EQ(r.report.status, SolveStatus::kUnsupported);

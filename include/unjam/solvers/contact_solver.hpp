@@ -1,9 +1,10 @@
 // One small interface for every backend: a ContactProblem in, impulses and a report out.
-// Backends never see the scene. The caller recomputes the residual (residual.hpp) after
-// every solve, whatever the backend claims.
+// Backends never see the scene. ContactSolver::Solve is the one entry point: it checks the
+// problem and the options, runs the backend (DoSolve), and reports the wall time and the
+// residual (residual.hpp) of the returned impulses, whatever the backend claims.
 //
 // A problem may also come in Delassus form (W, q, laws: delassus_problem.hpp), e.g. read
-// from another code's file. A backend solves it through SolveDelassus if it can; the
+// from another code's file. A backend solves it through DoSolveDelassus if it can; the
 // default refuses it with SolveStatus::kUnsupported and a message, so that a backend
 // written for body problems needs no change (docs/backends.md has the support table).
 #pragma once
@@ -196,11 +197,22 @@ class ContactSolver {
   // (not its accuracy), so that results saved by an earlier version are not mixed with
   // new ones (`perturb -o DIR` refuses to resume them). 1 for a backend never changed so.
   virtual int AnswerRevision() const { return 1; }
-  virtual SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) = 0;
-  // The same laws posed on ũ = W r + q. Default: status kUnsupported, zero impulses (with
-  // their residual) and a message naming the backend. Throws std::invalid_argument for
-  // inconsistent sizes (Validate(DelassusProblem)) or options.
-  virtual SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options);
+  // Throws std::invalid_argument for an inconsistent problem (Validate(ContactProblem)) or
+  // options (Validate(SolverOptions)); report.seconds times the backend alone, and
+  // report.residual is ComputeResidual's of the returned impulses.
+  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options);
+  // The same laws posed on ũ = W r + q, checked by Validate(DelassusProblem), timed and
+  // judged as Solve. A backend without this form answers status kUnsupported, zero
+  // impulses and a message naming the backend.
+  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options);
+
+ protected:
+  // The backend proper, on a problem and options already checked. It fills the impulses
+  // (NumUnknowns() of them), the basis and the report; the entry point overwrites the
+  // report's residual and seconds.
+  virtual SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options) = 0;
+  // Default: the refusal described at SolveDelassus.
+  virtual SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options);
 };
 
 // The one place where backends are chosen by name. Throws std::invalid_argument for an
