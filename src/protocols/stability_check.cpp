@@ -45,8 +45,7 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   StaticSolveOptions o;
   o.backend = backend;
   o.solver = solver;
-  StaticProblem posed = PoseStaticProblem(scene, o);
-  posed.assembled.problem.initial_guess.resize(0);
+  StaticProblem posed = PoseStaticProblem(scene, o);  // solved without its guess: from zero
   const ContactProblem& problem = posed.assembled.problem;
   // As `unjam solve` gives it: the backend's answer, solved exactly on its pattern where
   // that helps (pattern_polish.hpp).

@@ -11,6 +11,24 @@ namespace unjam {
 
 namespace {
 
+void RequireEmptyOrSize(const char* field, std::size_t size, std::size_t expected,
+                        const char* per) {
+  if (size == 0 || size == expected) return;
+  throw std::invalid_argument("solver guess: " + std::string(field) + " has " +
+                              std::to_string(size) + " entries, expected " +
+                              std::to_string(expected) + " (" + per + ") or 0");
+}
+
+// A guess of another size is a caller's mix-up (another problem's impulses), not a cold
+// start: it is refused rather than ignored.
+template <class Problem>
+void ValidateGuess(const Problem& problem, const SolverGuess& guess) {
+  RequireEmptyOrSize("guess.impulses", static_cast<std::size_t>(guess.impulses.size()),
+                     static_cast<std::size_t>(problem.NumUnknowns()), "one per unknown");
+  RequireEmptyOrSize("guess.basis", guess.basis.size(),
+                     static_cast<std::size_t>(problem.NumContacts()), "one per contact");
+}
+
 // Runs `solve` and records its wall time and the residual of its impulses: a backend's
 // own claim is never what a caller reads.
 template <class Problem, class SolveFn>
@@ -31,20 +49,24 @@ SolveResult TimedAndJudged(const Problem& problem, const std::string& backend, S
 
 }  // namespace
 
-SolveResult ContactSolver::Solve(const ContactProblem& problem, const SolverOptions& options) {
+SolveResult ContactSolver::Solve(const ContactProblem& problem, const SolverOptions& options,
+                                 const SolverGuess& guess) {
   Validate(problem);
   Validate(options);
-  return TimedAndJudged(problem, Name(), [&] { return DoSolve(problem, options); });
+  ValidateGuess(problem, guess);
+  return TimedAndJudged(problem, Name(), [&] { return DoSolve(problem, options, guess); });
 }
 
 SolveResult ContactSolver::SolveDelassus(const DelassusProblem& problem,
-                                         const SolverOptions& options) {
+                                         const SolverOptions& options, const SolverGuess& guess) {
   Validate(problem);
   Validate(options);
-  return TimedAndJudged(problem, Name(), [&] { return DoSolveDelassus(problem, options); });
+  ValidateGuess(problem, guess);
+  return TimedAndJudged(problem, Name(), [&] { return DoSolveDelassus(problem, options, guess); });
 }
 
-SolveResult ContactSolver::DoSolveDelassus(const DelassusProblem& problem, const SolverOptions&) {
+SolveResult ContactSolver::DoSolveDelassus(const DelassusProblem& problem, const SolverOptions&,
+                                           const SolverGuess&) {
   SolveResult result;
   result.impulses = Eigen::VectorXd::Zero(problem.NumUnknowns());
   result.report.backend = Name();

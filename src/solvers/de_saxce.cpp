@@ -263,9 +263,8 @@ Iterate Polished(const Problem& p, const ConvexLaw& law, const Eigen::VectorXd& 
 }
 
 template <class Problem>
-Eigen::VectorXd InitialImpulses(const Problem& p) {
-  if (p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite())
-    return p.initial_guess;
+Eigen::VectorXd InitialImpulses(const Problem& p, const SolverGuess& guess) {
+  if (guess.impulses.size() == p.NumUnknowns() && guess.impulses.allFinite()) return guess.impulses;
   return Eigen::VectorXd::Zero(p.NumUnknowns());
 }
 
@@ -310,12 +309,12 @@ SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outco
 // One convex solve without shift: the relaxed model's answer is returned whatever its
 // residual against the exact law.
 template <class Problem>
-SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std::string& backend,
-                            ConvexStepSolver& step) {
+SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const SolverGuess& guess,
+                            const std::string& backend, ConvexStepSolver& step) {
   const ConvexLaw law(p);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.NumUnknowns());
   if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step);
-  const ConvexStep s = step.Solve(zero, InitialImpulses(p), kInnerSafety * o.tolerance);
+  const ConvexStep s = step.Solve(zero, InitialImpulses(p, guess), kInnerSafety * o.tolerance);
   if (!s.impulses.allFinite()) {
     return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o,
                   backend, step);
@@ -339,11 +338,11 @@ SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std:
 }
 
 template <class Problem>
-SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::string& backend,
-                       ConvexStepSolver& step) {
-  if (o.de_saxce.convex_relaxation) return SolveRelaxation(p, o, backend, step);
+SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const SolverGuess& guess,
+                       const std::string& backend, ConvexStepSolver& step) {
+  if (o.de_saxce.convex_relaxation) return SolveRelaxation(p, o, guess, backend, step);
   const ConvexLaw law(p);
-  Iterate best{InitialImpulses(p), 0.0};
+  Iterate best{InitialImpulses(p, guess), 0.0};
   best.residual = ComputeResidual(p, best.impulses).residual;
   Eigen::VectorXd r = best.impulses;
   const bool warm = !r.isZero(0.0);  // the first shift: see the top of the file
@@ -402,13 +401,15 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::stri
 }  // namespace
 
 SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOptions& o,
-                                     const std::string& backend, ConvexStepSolver& step) {
-  return FixedPoint(p, o, backend, step);
+                                     const SolverGuess& guess, const std::string& backend,
+                                     ConvexStepSolver& step) {
+  return FixedPoint(p, o, guess, backend, step);
 }
 
 SolveResult SolveByDeSaxceFixedPoint(const DelassusProblem& p, const SolverOptions& o,
-                                     const std::string& backend, ConvexStepSolver& step) {
-  return FixedPoint(p, o, backend, step);
+                                     const SolverGuess& guess, const std::string& backend,
+                                     ConvexStepSolver& step) {
+  return FixedPoint(p, o, guess, backend, step);
 }
 
 }  // namespace unjam

@@ -11,10 +11,11 @@ class IpoptSolver final : public ContactSolver {
   std::string Name() const override { return "ipopt"; }
 
  private:
-  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options) override;
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
   // Refuses (kUnsupported) a W that is not symmetric: the convex step needs one.
-  SolveResult DoSolveDelassus(const DelassusProblem& problem,
-                              const SolverOptions& options) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam

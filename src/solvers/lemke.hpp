@@ -14,9 +14,10 @@ class LemkeSolver final : public ContactSolver {
   int AnswerRevision() const override { return 3; }
 
  private:
-  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options) override;
-  SolveResult DoSolveDelassus(const DelassusProblem& problem,
-                              const SolverOptions& options) override;
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam

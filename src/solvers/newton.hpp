@@ -13,9 +13,10 @@ class NewtonSolver final : public ContactSolver {
   int AnswerRevision() const override { return 2; }
 
  private:
-  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options) override;
-  SolveResult DoSolveDelassus(const DelassusProblem& problem,
-                              const SolverOptions& options) override;
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam

@@ -11,9 +11,10 @@ class NsgsSolver final : public ContactSolver {
   std::string Name() const override { return "nsgs"; }
 
  private:
-  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options) override;
-  SolveResult DoSolveDelassus(const DelassusProblem& problem,
-                              const SolverOptions& options) override;
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam
