@@ -24,10 +24,9 @@
 namespace unjam {
 namespace {
 
+// Solved without its guess (the stored forces): from zero.
 ContactProblem ColdStaticProblem(const std::string& path) {
-  StaticProblem s = PoseStaticProblem(ReadPacking(path), {});
-  s.assembled.problem.initial_guess.resize(0);
-  return s.assembled.problem;
+  return PoseStaticProblem(ReadPacking(path), {}).assembled.problem;
 }
 
 void SolveOnce(benchmark::State& state, const ContactProblem& p, const std::string& backend,

@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include <string>
+#include <utility>
 
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
@@ -20,6 +21,7 @@ namespace {
 
 struct Case {
   ContactProblem problem;
+  SolverGuess guess;  // the static forces' impulses
   SolverOptions options;
 };
 
@@ -29,7 +31,8 @@ Case Pose(const std::string& file, bool top_shift, int index) {
   const PerturbationBase base = PreparePerturbations(scene, o);
   const std::vector<PerturbationTarget> targets =
       top_shift ? TopTargets(base) : SampleTargets(ContactTargets(base), 10, 1);
-  Case c{PosePerturbationProblem(base, targets[index], o), o.solver};
+  StaticProblem posed = PosePerturbationProblem(base, targets[index], o);
+  Case c{std::move(posed.assembled.problem), std::move(posed.guess), o.solver};
   c.options.tolerance = SolverToleranceFor(o, base);
   c.options.lemke.velocity_scale = o.gap / o.dt;
   return c;
@@ -50,7 +53,7 @@ void Lemke(benchmark::State& state, const Case& (*make)()) {
   const Case& c = make();
   SolveReport last;
   for (auto _ : state) {
-    const SolveResult r = MakeSolver("lemke")->Solve(c.problem, c.options);
+    const SolveResult r = MakeSolver("lemke")->Solve(c.problem, c.options, c.guess);
     benchmark::DoNotOptimize(r.impulses.data());
     last = r.report;
   }
@@ -60,10 +63,10 @@ void Lemke(benchmark::State& state, const Case& (*make)()) {
 
 void Pattern(benchmark::State& state, const Case& (*make)()) {
   const Case& c = make();
-  const SolveResult start = MakeSolver("lemke")->Solve(c.problem, c.options);
+  const SolveResult start = MakeSolver("lemke")->Solve(c.problem, c.options, c.guess);
   PatternSolution last;
   for (auto _ : state) {
-    last = SolveOnPattern(c.problem, start.impulses, c.problem.initial_guess,
+    last = SolveOnPattern(c.problem, start.impulses, c.guess.impulses,
                           c.options.lemke.velocity_scale, 1.0);
     benchmark::DoNotOptimize(last.impulses.data());
   }

@@ -57,21 +57,21 @@ std::string Stem(const std::string& path) { return std::filesystem::path(path).s
 void AddProblems(const std::string& path, const CompareFlags& f,
                  std::vector<ComparisonProblem>& out) {
   if (IsStoredProblem(path)) {
-    out.push_back({Stem(path), ReadSiconosProblem(path)});
+    out.push_back({Stem(path), ReadSiconosProblem(path), {}});
     return;
   }
   const Scene scene = ReadPacking(path);
   StaticProblem s = PoseStaticProblem(scene, {});
-  s.assembled.problem.initial_guess.resize(0);
-  out.push_back({Stem(path) + " static", std::move(s.assembled.problem)});
+  out.push_back({Stem(path) + " static", std::move(s.assembled.problem), {}});  // from zero
   if (f.openings <= 0) return;
   if (scene.forces.empty())
     throw InputError(path, 0, "stores no static forces, which --openings starts from");
   const PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   for (const PerturbationTarget& t : SampleTargets(ContactTargets(base), f.openings, f.seed)) {
-    out.push_back(
-        {Stem(path) + Format(" opening %d-%d", t.i, t.j), PosePerturbationProblem(base, t, o)});
+    StaticProblem opening = PosePerturbationProblem(base, t, o);
+    out.push_back({Stem(path) + Format(" opening %d-%d", t.i, t.j),
+                   std::move(opening.assembled.problem), std::move(opening.guess)});
   }
 }
 

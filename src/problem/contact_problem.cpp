@@ -81,9 +81,6 @@ void Validate(const ContactProblem& p) {
     RequireFinite("cell.free_rate", p.cell->free_rate);
   }
   for (std::size_t k = 0; k < p.contacts.size(); ++k) ValidateContact(p, k);
-  RequireSize("initial_guess", static_cast<std::size_t>(p.initial_guess.size()),
-              static_cast<std::size_t>(p.NumUnknowns()), true);
-  RequireSize("initial_basis", p.initial_basis.size(), p.contacts.size(), true);
 }
 
 namespace {

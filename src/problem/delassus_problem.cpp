@@ -17,10 +17,6 @@ ContactProblem WithTangentRows(const ContactProblem& p) {
   out.inv_inertia.assign(p.NumBodies(), 0.0);
   out.free_spin.assign(p.NumBodies(), 0.0);
   for (ProblemContact& c : out.contacts) c.mu = 0.0;
-  if (p.initial_guess.size() == p.NumUnknowns()) {
-    out.initial_guess = Eigen::VectorXd::Zero(2 * p.NumContacts());
-    for (int k = 0; k < p.NumContacts(); ++k) out.initial_guess[2 * k] = p.initial_guess[k];
-  }
   return out;
 }
 
@@ -37,7 +33,6 @@ DelassusProblem ToDelassusProblem(const ContactProblem& problem) {
   out.q = DelassusOffset(p);
   out.laws.reserve(p.NumContacts());
   for (const ProblemContact& c : p.contacts) out.laws.push_back({c.mu, c.kind});
-  if (p.initial_guess.size() == p.NumUnknowns()) out.initial_guess = p.initial_guess;
   return out;
 }
 
@@ -49,10 +44,6 @@ void Validate(const DelassusProblem& p) {
            ", expected " + size + " x " + size + " (two rows per contact)");
   }
   if (p.q.size() != n) Reject("q has " + std::to_string(p.q.size()) + " entries, expected " + size);
-  if (p.initial_guess.size() != 0 && p.initial_guess.size() != n) {
-    Reject("the warm start has " + std::to_string(p.initial_guess.size()) +
-           " entries, expected 0 or " + size);
-  }
   for (int k = 0; k < p.NumContacts(); ++k) {
     if (!(p.laws[k].mu >= 0.0) || !std::isfinite(p.laws[k].mu)) {
       Reject("contact " + std::to_string(k) + " has friction coefficient " +

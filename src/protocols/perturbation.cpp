@@ -495,12 +495,11 @@ std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& b
 }
 }  // namespace
 
-ContactProblem PosePerturbationProblem(const PerturbationBase& base,
-                                       const PerturbationTarget& target,
-                                       const PerturbationOptions& options) {
+StaticProblem PosePerturbationProblem(const PerturbationBase& base,
+                                      const PerturbationTarget& target,
+                                      const PerturbationOptions& options) {
   CheckTarget(base, target);
-  return PoseStaticProblem(PerturbedScene(base, target, options), StepOptions(base, options))
-      .assembled.problem;
+  return PoseStaticProblem(PerturbedScene(base, target, options), StepOptions(base, options));
 }
 
 namespace {
@@ -579,7 +578,7 @@ StaticSolution SolveAndMeasure(const PerturbationBase& base, const Scene& pertur
   if (r.resolved || !spare) return s;
   StaticSolveOptions second = solve;
   second.backend = fallback;
-  spare->assembled.problem.initial_basis.clear();
+  spare->guess.basis.clear();
   StaticSolution s2 = SolveStatic(perturbed, std::move(*spare), second);
   PerturbationResult r2 = r;
   Measure(base, options, second, s2, r2);
@@ -737,7 +736,7 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
                                  options.cell == CellCondition::kFixedPressure &&
                                  base.scene.effects.pressure_bath.has_value();
   StaticProblem posed = PoseStaticProblem(perturbed, solve);
-  if (continued != nullptr) posed.assembled.problem.initial_basis = BasisFor(posed, *continued);
+  if (continued != nullptr) posed.guess.basis = BasisFor(posed, *continued);
   if (!posed.assembled.violated_immovable.empty()) {
     // A particle shifted into a fixed one: no impulse can keep that contact closed.
     const Contact& c = posed.contacts[posed.assembled.violated_immovable.front()];

@@ -79,13 +79,14 @@ RateBase PrepareRateBase(const PerturbationBase& base, const StaticSolveOptions&
   RateBase rb;
   rb.posed = PoseStaticProblem(base.scene, step);
   const ContactProblem& p = rb.posed.assembled.problem;
+  const Eigen::VectorXd& stored = rb.posed.guess.impulses;  // the static forces' impulses
   const int stride = p.UnknownsPerContact();
   rb.closed_index.assign(static_cast<std::size_t>(p.NumContacts()), -1);
   std::vector<int> rows;
   for (int k = 0; k < p.NumContacts(); ++k) {
     const Contact& c = rb.posed.contacts[static_cast<std::size_t>(
         rb.posed.assembled.source_contact[static_cast<std::size_t>(k)])];
-    const bool loaded = p.initial_guess.size() > 0 && p.initial_guess[k * stride] != 0.0;
+    const bool loaded = stored.size() > 0 && stored[k * stride] != 0.0;
     if (!(std::abs(c.gap) <= step.closed_gap_tolerance) && !loaded) continue;
     rb.closed_index[static_cast<std::size_t>(k)] = static_cast<int>(rb.closed.size());
     rb.closed.push_back(k);
@@ -94,8 +95,7 @@ RateBase PrepareRateBase(const PerturbationBase& base, const StaticSolveOptions&
   rb.jacobian = RowsOf(AssembleJacobian(p), rows);
   rb.impulses.resize(static_cast<Eigen::Index>(rows.size()));
   for (std::size_t r = 0; r < rows.size(); ++r) {
-    rb.impulses[static_cast<Eigen::Index>(r)] =
-        p.initial_guess.size() > 0 ? p.initial_guess[rows[r]] : 0.0;
+    rb.impulses[static_cast<Eigen::Index>(r)] = stored.size() > 0 ? stored[rows[r]] : 0.0;
   }
   rb.stresses = ComputeSelfStresses(rb.jacobian);
   return rb;

@@ -45,8 +45,7 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   StaticSolveOptions o;
   o.backend = backend;
   o.solver = solver;
-  StaticProblem posed = PoseStaticProblem(scene, o);
-  posed.assembled.problem.initial_guess.resize(0);
+  StaticProblem posed = PoseStaticProblem(scene, o);  // solved without its guess: from zero
   const ContactProblem& problem = posed.assembled.problem;
   // As `unjam solve` gives it: the backend's answer, solved exactly on its pattern where
   // that helps (pattern_polish.hpp).
@@ -54,9 +53,7 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   if (polish) result = PolishOnPattern(problem, result, solver.tolerance);
   Solved out;
   out.impulses = result.impulses;
-  double residual = result.report.residual;
   if (AllFinite(result.impulses)) {
-    residual = ComputeResidual(problem, result.impulses).residual;
     try {
       out.siconos_error = SiconosError(ToDelassusProblem(problem), result.impulses);
     } catch (const std::exception&) {
@@ -68,7 +65,6 @@ Solved SolveScene(const Scene& scene, const std::string& backend, const SolverOp
   out.contacts = static_cast<int>(s.contacts.size());
   out.equilibrium = s.equilibrium.residual;
   out.report = s.report;
-  out.report.residual = residual;
   out.forces = ToContactForces(s);
   return out;
 }

@@ -67,11 +67,11 @@ std::string FormatShort(double x) {
 // replaces the answer where the pattern LP finds one that meets the tolerance. The pattern
 // is read with κ = 1 (solvers/pattern_lp.hpp): an exact answer gives its own at any κ, and
 // on inexact ones (newton's stalls) no κ tried (1e-2 to 1e4) gave a pattern with a solution.
-void SelectNearestMember(const ContactProblem& p, const StaticSolveOptions& options,
-                         SolveResult& result) {
+void SelectNearestMember(const ContactProblem& p, const SolverGuess& guess,
+                         const StaticSolveOptions& options, SolveResult& result) {
   double v_scale = options.solver.lemke.velocity_scale;
   if (!(v_scale > 0.0)) v_scale = std::max(VelocityOffset(p).cwiseAbs().maxCoeff(), 1e-300);
-  const PatternSolution s = SolveOnPattern(p, result.impulses, p.initial_guess, v_scale, 1.0);
+  const PatternSolution s = SolveOnPattern(p, result.impulses, guess.impulses, v_scale, 1.0);
   const double residual = s.found ? ComputeResidual(p, s.impulses).residual : 0.0;
   if (!s.found || !(residual <= options.solver.tolerance)) {
     result.report.message +=
@@ -100,8 +100,7 @@ StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& op
   assembly.dt = options.dt;
   assembly.closed_gap_tolerance = options.closed_gap_tolerance;
   out.assembled = AssembleProblem(rest, out.contacts, assembly);
-  out.assembled.problem.initial_guess =
-      StoredForcesGuess(scene, out.contacts, out.assembled, options.dt);
+  out.guess.impulses = StoredForcesGuess(scene, out.contacts, out.assembled, options.dt);
   return out;
 }
 
@@ -111,9 +110,10 @@ StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options
 
 StaticSolution SolveStatic(const Scene& scene, StaticProblem posed,
                            const StaticSolveOptions& options) {
-  SolveResult result = MakeSolver(options.backend)->Solve(posed.assembled.problem, options.solver);
-  result = PolishOnPattern(posed.assembled.problem, result, options.solver.tolerance);
-  if (options.nearest_member) SelectNearestMember(posed.assembled.problem, options, result);
+  const ContactProblem& p = posed.assembled.problem;
+  SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver, posed.guess);
+  result = PolishOnPattern(p, result, options.solver.tolerance);
+  if (options.nearest_member) SelectNearestMember(p, posed.guess, options, result);
   return SolutionOf(scene, std::move(posed), result, options.dt);
 }
 

@@ -11,8 +11,7 @@ StoredSolution SolveStoredProblem(const DelassusProblem& problem, const std::str
   SolveResult result = MakeSolver(backend)->SolveDelassus(problem, options);
   StoredSolution out;
   out.impulses = std::move(result.impulses);
-  out.report = std::move(result.report);
-  out.report.residual = ComputeResidual(problem, out.impulses).residual;
+  out.report = std::move(result.report);  // its residual is the one of out.impulses
   if (out.report.converged() && !(out.report.residual <= options.tolerance)) {
     char message[160];
     std::snprintf(message, sizeof message,

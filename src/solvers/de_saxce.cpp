@@ -30,7 +30,6 @@
 #include "de_saxce.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -131,7 +130,6 @@ SolveResult Unsupported(const DelassusProblem& p, const std::string& backend,
   result.impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
   result.report.backend = backend;
   result.report.status = SolveStatus::kUnsupported;
-  result.report.residual = ComputeResidual(p, result.impulses).residual;
   result.report.message = "backend '" + backend + "' refuses this problem: " + why;
   return result;
 }
@@ -265,9 +263,8 @@ Iterate Polished(const Problem& p, const ConvexLaw& law, const Eigen::VectorXd& 
 }
 
 template <class Problem>
-Eigen::VectorXd InitialImpulses(const Problem& p) {
-  if (p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite())
-    return p.initial_guess;
+Eigen::VectorXd InitialImpulses(const Problem& p, const SolverGuess& guess) {
+  if (guess.impulses.size() == p.NumUnknowns() && guess.impulses.allFinite()) return guess.impulses;
   return Eigen::VectorXd::Zero(p.NumUnknowns());
 }
 
@@ -286,7 +283,7 @@ std::string Number(double x) {
 template <class Problem>
 SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outcome, int solves,
                    int library_iterations, const SolverOptions& o, const std::string& backend,
-                   const ConvexStepSolver& step, std::chrono::steady_clock::time_point start) {
+                   const ConvexStepSolver& step) {
   SolveResult result;
   result.impulses = chosen.impulses;
   SolveReport& report = result.report;
@@ -306,23 +303,21 @@ SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outco
     const std::string count = std::to_string(library_iterations) + " " + step.IterationName();
     report.message += (report.message.empty() ? "" : "; ") + count;
   }
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
 // One convex solve without shift: the relaxed model's answer is returned whatever its
 // residual against the exact law.
 template <class Problem>
-SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std::string& backend,
-                            ConvexStepSolver& step) {
-  const auto start = std::chrono::steady_clock::now();
+SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const SolverGuess& guess,
+                            const std::string& backend, ConvexStepSolver& step) {
   const ConvexLaw law(p);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.NumUnknowns());
-  if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step, start);
-  const ConvexStep s = step.Solve(zero, InitialImpulses(p), kInnerSafety * o.tolerance);
+  if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step);
+  const ConvexStep s = step.Solve(zero, InitialImpulses(p, guess), kInnerSafety * o.tolerance);
   if (!s.impulses.allFinite()) {
     return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o,
-                  backend, step, start);
+                  backend, step);
   }
   const Iterate solution = Polished(p, law, s.impulses, zero);
   const double own = law.Residual(solution.impulses, Posed(p, solution.impulses), zero);
@@ -339,17 +334,15 @@ SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const std:
                "convex relaxation not solved to the tolerance (its own residual " + Number(own) +
                    ", " + s.library_status + ")"};
   }
-  return Finish(p, solution, outcome, 1, s.iterations, o, backend, step, start);
+  return Finish(p, solution, outcome, 1, s.iterations, o, backend, step);
 }
 
 template <class Problem>
-SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::string& backend,
-                       ConvexStepSolver& step) {
-  Validate(o);
-  if (o.de_saxce.convex_relaxation) return SolveRelaxation(p, o, backend, step);
-  const auto start = std::chrono::steady_clock::now();
+SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const SolverGuess& guess,
+                       const std::string& backend, ConvexStepSolver& step) {
+  if (o.de_saxce.convex_relaxation) return SolveRelaxation(p, o, guess, backend, step);
   const ConvexLaw law(p);
-  Iterate best{InitialImpulses(p), 0.0};
+  Iterate best{InitialImpulses(p, guess), 0.0};
   best.residual = ComputeResidual(p, best.impulses).residual;
   Eigen::VectorXd r = best.impulses;
   const bool warm = !r.isZero(0.0);  // the first shift: see the top of the file
@@ -402,19 +395,21 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const std::stri
       break;
     }
   }
-  return Finish(p, best, outcome, solves, library_iterations, o, backend, step, start);
+  return Finish(p, best, outcome, solves, library_iterations, o, backend, step);
 }
 
 }  // namespace
 
 SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& p, const SolverOptions& o,
-                                     const std::string& backend, ConvexStepSolver& step) {
-  return FixedPoint(p, o, backend, step);
+                                     const SolverGuess& guess, const std::string& backend,
+                                     ConvexStepSolver& step) {
+  return FixedPoint(p, o, guess, backend, step);
 }
 
 SolveResult SolveByDeSaxceFixedPoint(const DelassusProblem& p, const SolverOptions& o,
-                                     const std::string& backend, ConvexStepSolver& step) {
-  return FixedPoint(p, o, backend, step);
+                                     const SolverGuess& guess, const std::string& backend,
+                                     ConvexStepSolver& step) {
+  return FixedPoint(p, o, guess, backend, step);
 }
 
 }  // namespace unjam

@@ -126,8 +126,10 @@ class ConvexStepSolver {
 // forms: the posed velocity is PosedContactVelocity (body form) or W r + q (Delassus form),
 // the residual ComputeResidual.
 SolveResult SolveByDeSaxceFixedPoint(const ContactProblem& problem, const SolverOptions& options,
-                                     const std::string& backend, ConvexStepSolver& step);
+                                     const SolverGuess& guess, const std::string& backend,
+                                     ConvexStepSolver& step);
 SolveResult SolveByDeSaxceFixedPoint(const DelassusProblem& problem, const SolverOptions& options,
-                                     const std::string& backend, ConvexStepSolver& step);
+                                     const SolverGuess& guess, const std::string& backend,
+                                     ConvexStepSolver& step);
 
 }  // namespace unjam

@@ -374,7 +374,7 @@ class IpoptStep final : public ConvexStepSolver {
   bool initialized_ = false;
 };
 
-// See IpoptSolver::Solve.
+// See IpoptSolver::DoSolve.
 std::mutex& MumpsLock() {
   static std::mutex mumps;
   return mumps;
@@ -382,25 +382,23 @@ std::mutex& MumpsLock() {
 
 }  // namespace
 
-SolveResult IpoptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult IpoptSolver::DoSolve(const ContactProblem& p, const SolverOptions& options,
+                                 const SolverGuess& guess) {
   // MUMPS is not thread-safe, and Ipopt 3.11 does not guard it (3.14 added a mutex), while
   // perturb solves in parallel threads: one Ipopt solve at a time in the process, from the
   // creation of the application (MUMPS instances live in it) to its destruction.
   const std::lock_guard<std::mutex> lock(MumpsLock());
   IpoptStep<ContactProblem> step(p, options);
-  return SolveByDeSaxceFixedPoint(p, options, Name(), step);
+  return SolveByDeSaxceFixedPoint(p, options, guess, Name(), step);
 }
 
-SolveResult IpoptSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult IpoptSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options,
+                                         const SolverGuess& guess) {
   const std::string not_convex = NotConvexOf(p);
   if (!not_convex.empty()) return Unsupported(p, Name(), not_convex);
   const std::lock_guard<std::mutex> lock(MumpsLock());
   IpoptStep<DelassusProblem> step(p, options);
-  return SolveByDeSaxceFixedPoint(p, options, Name(), step);
+  return SolveByDeSaxceFixedPoint(p, options, guess, Name(), step);
 }
 
 }  // namespace unjam

@@ -137,7 +137,7 @@ int SlipFormVariables(const MatrixForm& k, int c) {
   return k.per_contact == 1 || k.laws[c].mu == 0.0 ? 1 : 4;
 }
 
-// A basis per contact (ContactProblem::initial_basis: bit k for the contact's k-th
+// A basis per contact (SolverGuess::basis: bit k for the contact's k-th
 // variable) as flags per variable of the slip-speed form, or empty if it does not fit.
 std::vector<char> ExpandBasis(const MatrixForm& k, const std::vector<std::uint8_t>& per_contact,
                               int variables) {
@@ -196,9 +196,6 @@ std::vector<std::uint8_t> BasisOfPattern(const MatrixForm& k, const Eigen::Vecto
   return basis;
 }
 
-std::vector<std::uint8_t> InitialBasisOf(const ContactProblem& p) { return p.initial_basis; }
-std::vector<std::uint8_t> InitialBasisOf(const DelassusProblem&) { return {}; }
-
 // A pseudo-random number in [1, 2) from an index (splitmix64): the same perturbation on
 // every run, thread and machine.
 double GenericWeight(int index) {
@@ -237,19 +234,19 @@ SparseMatrix FromTriplets(int rows, int cols, const Triplets& t) {
   return m;
 }
 
-SolveResult SolveWithNewton(const ContactProblem& p, const SolverOptions& o) {
-  return NewtonSolver().Solve(p, o);
+SolveResult SolveWithNewton(const ContactProblem& p, const SolverOptions& o,
+                            const SolverGuess& guess) {
+  return NewtonSolver().Solve(p, o, guess);
 }
-SolveResult SolveWithNewton(const DelassusProblem& p, const SolverOptions& o) {
-  return NewtonSolver().SolveDelassus(p, o);
+SolveResult SolveWithNewton(const DelassusProblem& p, const SolverOptions& o,
+                            const SolverGuess& guess) {
+  return NewtonSolver().SolveDelassus(p, o, guess);
 }
 
 template <class Problem>
 SolveResult Polish(const Problem& problem, const Eigen::VectorXd& impulses,
                    const SolverOptions& o) {
-  Problem from = problem;
-  from.initial_guess = impulses;
-  return SolveWithNewton(from, o);
+  return SolveWithNewton(problem, o, {impulses, {}});
 }
 
 // The mixed LCP of one complementarity form, and the map r = T z back to impulses.
@@ -425,8 +422,7 @@ std::string RunAccount(const Run& run, const lemke_internal::LemkeResult& lemke,
 
 template <class Problem>
 SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o,
-                       const std::string& name) {
-  const auto start = std::chrono::steady_clock::now();
+                       const SolverGuess& given, const std::string& name) {
   const int unknowns = static_cast<int>(k.h.rows());
   if (unknowns == 0) {  // no contact: nothing to pivot, the empty impulse vector solves it
     SolveResult empty;
@@ -442,13 +438,12 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   report.backend = name;
   std::string history;
   int pivots = 0;
-  const bool has_guess = o.lemke.warm_start && problem.initial_guess.size() == unknowns &&
-                         problem.initial_guess.allFinite() &&
-                         problem.initial_guess.cwiseAbs().maxCoeff() > 0.0;
+  const bool has_guess = o.lemke.warm_start && given.impulses.size() == unknowns &&
+                         given.impulses.allFinite() && given.impulses.cwiseAbs().maxCoeff() > 0.0;
   const double velocity_scale = o.lemke.velocity_scale > 0.0 ? o.lemke.velocity_scale : 1.0;
   const Eigen::VectorXd guess =
-      has_guess ? StartOf(k, problem.initial_guess, slip.enc.variables) : Eigen::VectorXd();
-  const std::vector<char> given_basis = ExpandBasis(k, InitialBasisOf(problem), slip.enc.variables);
+      has_guess ? StartOf(k, given.impulses, slip.enc.variables) : Eigen::VectorXd();
+  const std::vector<char> given_basis = ExpandBasis(k, given.basis, slip.enc.variables);
   const bool rate_form = velocity_scale != 1.0;
   const std::vector<Run> runs =
       PlanRuns(!given_basis.empty(), has_guess, rate_form, frictional, o.lemke.box_rate_first);
@@ -529,22 +524,19 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   if (!report.converged() && pivots >= o.lemke.max_pivots)
     report.status = SolveStatus::kIterationLimit;
   report.message = "Lemke: " + history;
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
 }  // namespace
 
-SolveResult LemkeSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  return SolveLemke(p, MatrixFormOf(p), options, Name());
+SolveResult LemkeSolver::DoSolve(const ContactProblem& p, const SolverOptions& options,
+                                 const SolverGuess& guess) {
+  return SolveLemke(p, MatrixFormOf(p), options, guess, Name());
 }
 
-SolveResult LemkeSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  return SolveLemke(p, MatrixFormOf(p), options, Name());
+SolveResult LemkeSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options,
+                                         const SolverGuess& guess) {
+  return SolveLemke(p, MatrixFormOf(p), options, guess, Name());
 }
 
 }  // namespace unjam

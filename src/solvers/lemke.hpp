@@ -12,8 +12,12 @@ class LemkeSolver final : public ContactSolver {
   // 2: the rate form's runs come first, before the plain runs.
   // 3: the rate form's runs may take 200 pivots per row, not 100.
   int AnswerRevision() const override { return 3; }
-  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
-  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;
+
+ private:
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam

@@ -191,8 +191,8 @@ SparseMatrix NewtonMatrix(const Operators& op, const std::vector<LocalJacobian>&
 }
 
 template <class Problem>
-Eigen::VectorXd InitialImpulses(const Problem& p) {
-  if (p.initial_guess.size() == p.NumUnknowns()) return p.initial_guess;
+Eigen::VectorXd InitialImpulses(const Problem& p, const SolverGuess& guess) {
+  if (guess.impulses.size() == p.NumUnknowns()) return guess.impulses;
   return Eigen::VectorXd::Zero(p.NumUnknowns());
 }
 
@@ -319,30 +319,31 @@ class NewtonPhase {
   bool analysed_ = false;
   int iterations_ = 0;
 };
-SolveResult SolveWithNsgs(const ContactProblem& p, const SolverOptions& o) {
-  return NsgsSolver().Solve(p, o);
+SolveResult SolveWithNsgs(const ContactProblem& p, const SolverOptions& o,
+                          const SolverGuess& guess) {
+  return NsgsSolver().Solve(p, o, guess);
 }
-SolveResult SolveWithNsgs(const DelassusProblem& p, const SolverOptions& o) {
-  return NsgsSolver().SolveDelassus(p, o);
+SolveResult SolveWithNsgs(const DelassusProblem& p, const SolverOptions& o,
+                          const SolverGuess& guess) {
+  return NsgsSolver().SolveDelassus(p, o, guess);
 }
 
 // NSGS from `start` to `tolerance`: the warm-up that brings Newton into its basin.
 template <class Problem>
 Iterate WarmUp(const Problem& p, const SolverOptions& o, const Iterate& start, double tolerance,
                SolveReport& report, int& sweeps) {
-  Problem warm = p;
-  warm.initial_guess = start.impulses;
   SolverOptions warm_options = o;
   warm_options.tolerance = tolerance;
   warm_options.nsgs.max_sweeps = o.newton.warmup_max_sweeps;
-  const SolveResult s = SolveWithNsgs(warm, warm_options);
+  const SolveResult s = SolveWithNsgs(p, warm_options, {start.impulses, {}});
   report.contact_updates += s.report.contact_updates;
   sweeps += s.report.iterations;
   return {s.impulses, s.report.residual};
 }
 
 template <class Problem>
-SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const std::string& name);
+SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const SolverGuess& guess,
+                        const std::string& name);
 
 // Nearly frictionless steps (every μ at most kNearlyFrictionless, a μ = 1e-8 packing): their
 // solution is within μ of a frictionless one, while a frictional Newton pays for the
@@ -363,26 +364,32 @@ ContactProblem WithoutFriction(const ContactProblem& p) {
   q.frictional = false;
   q.inv_inertia.clear();
   q.free_spin.clear();
-  q.initial_basis.clear();
   for (ProblemContact& c : q.contacts) c.mu = 0.0;
-  if (p.initial_guess.size() == p.NumUnknowns()) {
-    q.initial_guess.resize(p.NumContacts());
-    for (int k = 0; k < p.NumContacts(); ++k) q.initial_guess[k] = p.initial_guess[2 * k];
-  }
   return q;
 }
 
-Iterate Start(const DelassusProblem& p, const SolverOptions&, const std::string&, SolveReport&) {
-  const Eigen::VectorXd r = InitialImpulses(p);
+// The normal impulses of a frictional guess: the guess of WithoutFriction(p).
+SolverGuess WithoutFriction(const ContactProblem& p, const SolverGuess& guess) {
+  SolverGuess normal;
+  if (guess.impulses.size() != p.NumUnknowns()) return normal;
+  normal.impulses.resize(p.NumContacts());
+  for (int k = 0; k < p.NumContacts(); ++k) normal.impulses[k] = guess.impulses[2 * k];
+  return normal;
+}
+
+Iterate Start(const DelassusProblem& p, const SolverOptions&, const SolverGuess& guess,
+              const std::string&, SolveReport&) {
+  const Eigen::VectorXd r = InitialImpulses(p, guess);
   return {r, ComputeResidual(p, r).residual};
 }
 
-Iterate Start(const ContactProblem& p, const SolverOptions& options, const std::string& name,
-              SolveReport& report) {
-  Iterate given{InitialImpulses(p), 0.0};
+Iterate Start(const ContactProblem& p, const SolverOptions& options, const SolverGuess& guess,
+              const std::string& name, SolveReport& report) {
+  Iterate given{InitialImpulses(p, guess), 0.0};
   given.residual = ComputeResidual(p, given.impulses).residual;
   if (!NearlyFrictionless(p)) return given;
-  const SolveResult frictionless = SolveNewton(WithoutFriction(p), options, name);
+  const SolveResult frictionless =
+      SolveNewton(WithoutFriction(p), options, WithoutFriction(p, guess), name);
   Iterate lifted{Eigen::VectorXd::Zero(p.NumUnknowns()), 0.0};
   for (int k = 0; k < p.NumContacts(); ++k) lifted.impulses[2 * k] = frictionless.impulses[k];
   lifted.residual = ComputeResidual(p, lifted.impulses).residual;
@@ -392,12 +399,12 @@ Iterate Start(const ContactProblem& p, const SolverOptions& options, const std::
 
 // The whole method on either problem form (see the top of the file).
 template <class Problem>
-SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const std::string& name) {
-  const auto start = std::chrono::steady_clock::now();
+SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const SolverGuess& guess,
+                        const std::string& name) {
   SolveResult result;
   SolveReport& report = result.report;
   report.backend = name;
-  const Iterate given = Start(p, options, name, report);
+  const Iterate given = Start(p, options, guess, name, report);
   Iterate best = given;
 
   NewtonPhase<Problem> newton(p, options);
@@ -410,7 +417,7 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
   // 245 000 sweeps; docs/performance.md). Where it stalls instead (most dynamic responses: Newton
   // from the static state wanders), the rounds below start from the warm start as if it
   // had not run, since they do better from there than from its stalled point.
-  if (options.newton.warm_probe && p.initial_guess.size() == p.NumUnknowns() &&
+  if (options.newton.warm_probe && guess.impulses.size() == p.NumUnknowns() &&
       best.residual > options.tolerance) {
     int probe_budget = std::min(budget, kProbeIterations);
     budget -= probe_budget;
@@ -451,22 +458,19 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const st
   if (sweeps > 0)
     report.message +=
         (report.message.empty() ? "" : "; ") + std::to_string(sweeps) + " NSGS warm-up sweeps";
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
 }  // namespace
 
-SolveResult NewtonSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  return SolveNewton(p, options, Name());
+SolveResult NewtonSolver::DoSolve(const ContactProblem& p, const SolverOptions& options,
+                                  const SolverGuess& guess) {
+  return SolveNewton(p, options, guess, Name());
 }
 
-SolveResult NewtonSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  return SolveNewton(p, options, Name());
+SolveResult NewtonSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options,
+                                          const SolverGuess& guess) {
+  return SolveNewton(p, options, guess, Name());
 }
 
 }  // namespace unjam

@@ -11,8 +11,12 @@ class NewtonSolver final : public ContactSolver {
   std::string Name() const override { return "newton"; }
   // 2: from a warm start, Newton alone first (the probe).
   int AnswerRevision() const override { return 2; }
-  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
-  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;
+
+ private:
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam

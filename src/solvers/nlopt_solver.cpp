@@ -311,27 +311,25 @@ ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd&
 namespace {
 
 template <class Problem>
-double ImpulseScale(const Problem& p) {
-  const bool warm = p.initial_guess.size() == p.NumUnknowns() && p.initial_guess.allFinite();
-  return ComputeResidual(p, warm ? p.initial_guess : Eigen::VectorXd::Zero(p.NumUnknowns())).scale;
+double ImpulseScale(const Problem& p, const SolverGuess& guess) {
+  const bool warm = guess.impulses.size() == p.NumUnknowns() && guess.impulses.allFinite();
+  return ComputeResidual(p, warm ? guess.impulses : Eigen::VectorXd::Zero(p.NumUnknowns())).scale;
 }
 
 }  // namespace
 
-SolveResult NloptSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  NloptStep step(p, options, ImpulseScale(p), std::make_unique<const BodyDelassus>(p));
-  return SolveByDeSaxceFixedPoint(p, options, Name(), step);
+SolveResult NloptSolver::DoSolve(const ContactProblem& p, const SolverOptions& options,
+                                 const SolverGuess& guess) {
+  NloptStep step(p, options, ImpulseScale(p, guess), std::make_unique<const BodyDelassus>(p));
+  return SolveByDeSaxceFixedPoint(p, options, guess, Name(), step);
 }
 
-SolveResult NloptSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
+SolveResult NloptSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options,
+                                         const SolverGuess& guess) {
   const std::string not_convex = NotConvexOf(p);
   if (!not_convex.empty()) return Unsupported(p, Name(), not_convex);
-  NloptStep step(p, options, ImpulseScale(p), std::make_unique<const StoredDelassus>(p));
-  return SolveByDeSaxceFixedPoint(p, options, Name(), step);
+  NloptStep step(p, options, ImpulseScale(p, guess), std::make_unique<const StoredDelassus>(p));
+  return SolveByDeSaxceFixedPoint(p, options, guess, Name(), step);
 }
 
 }  // namespace unjam

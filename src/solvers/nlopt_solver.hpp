@@ -9,9 +9,13 @@ namespace unjam {
 class NloptSolver final : public ContactSolver {
  public:
   std::string Name() const override { return "nlopt"; }
-  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
+
+ private:
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
   // Refuses (kUnsupported) a W that is not symmetric: the convex step needs one.
-  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam

@@ -199,17 +199,19 @@ Eigen::VectorXd Impulses(const ContactProblem& p, const Layout& layout, const St
   return r;
 }
 
-// `dummies` slots without degrees of freedom follow the bodies (one per thread).
-State InitialState(const ContactProblem& p, const Layout& layout, int dummies = 1) {
+// From `start` (the guess's impulses, or empty: zero). `dummies` slots without degrees of
+// freedom follow the bodies (one per thread).
+State InitialState(const ContactProblem& p, const Layout& layout, const Eigen::VectorXd& start,
+                   int dummies = 1) {
   State s;
   const int nc = p.NumContacts();
   s.rn.assign(nc, 0.0);
   s.rt.assign(nc, 0.0);
-  if (p.initial_guess.size() == p.NumUnknowns()) {
+  if (start.size() == p.NumUnknowns()) {
     for (int pos = 0; pos < nc; ++pos) {
       const int k = layout.contact_at[pos];
-      s.rn[pos] = p.initial_guess[k * p.UnknownsPerContact()];
-      if (p.frictional) s.rt[pos] = p.initial_guess[k * 2 + 1];
+      s.rn[pos] = start[k * p.UnknownsPerContact()];
+      if (p.frictional) s.rt[pos] = start[k * 2 + 1];
     }
   }
   const VelocityState v = EndVelocityState(p, Impulses(p, layout, s));
@@ -384,10 +386,12 @@ std::vector<Row> DomainRows(const ContactProblem& p, const Layout& layout, const
 template <bool kFrictional>
 class DomainSolve {
  public:
-  DomainSolve(const ContactProblem& p, const SolverOptions& o, const Layout& base)
+  DomainSolve(const ContactProblem& p, const SolverOptions& o, const Layout& base,
+              const Eigen::VectorXd& start)
       : p_(p), o_(o), threads_(o.nsgs.threads), layout_(DomainLayout(p, base, threads_, domains_)),
-        rows_(DomainRows(p, layout_, domains_)), state_(InitialState(p, layout_, threads_ + 1)),
-        evaluate_(p), errors_(p.NumContacts()), cell_change_(threads_, 0.0),
+        rows_(DomainRows(p, layout_, domains_)),
+        state_(InitialState(p, layout_, start, threads_ + 1)), evaluate_(p),
+        errors_(p.NumContacts()), cell_change_(threads_, 0.0),
         team_(threads_, [this](int t) { Work(t); }) {
     for (int t = 0; t < threads_; ++t)
       lists_.push_back(MakeListOrder(std::move(domains_.inside[t]), o.nsgs.seed, t));
@@ -449,9 +453,9 @@ class DomainSolve {
 
 // NSGS on one thread: one order over all contacts (sweeps.hpp's RunSweeps).
 void SolveOnOneThread(const ContactProblem& p, const SolverOptions& o, const Layout& layout,
-                      SolveResult& result) {
+                      const Eigen::VectorXd& start, SolveResult& result) {
   const std::vector<Row> rows = MakeRows(p, layout);
-  State state = InitialState(p, layout);
+  State state = InitialState(p, layout, start);
   const ResidualEvaluator evaluate(p);
   auto sweep = [&](const std::vector<std::uint32_t>& order) {
     if (p.frictional) Sweep<true>(rows, order, o.nsgs.relaxation, state);
@@ -464,8 +468,8 @@ void SolveOnOneThread(const ContactProblem& p, const SolverOptions& o, const Lay
 
 template <bool kFrictional>
 void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layout& base,
-                    SolveResult& result) {
-  DomainSolve<kFrictional> solve(p, o, base);
+                    const Eigen::VectorXd& start, SolveResult& result) {
+  DomainSolve<kFrictional> solve(p, o, base, start);
   solvers_internal::RunIndexedSweeps(
       p.NumContacts(), o, [&](int i) { solve.Sweep(i); }, [&] { return solve.Residual(); },
       result.report);
@@ -474,19 +478,16 @@ void SolveInDomains(const ContactProblem& p, const SolverOptions& o, const Layou
 
 }  // namespace
 
-SolveResult NsgsSolver::Solve(const ContactProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  const auto start = std::chrono::steady_clock::now();
+SolveResult NsgsSolver::DoSolve(const ContactProblem& p, const SolverOptions& options,
+                                const SolverGuess& guess) {
   const Layout layout = MakeLayout(p, options.nsgs.order);
   SolveResult result;
   result.report.backend = Name();
+  const Eigen::VectorXd& start = guess.impulses;
   if (options.nsgs.threads < 2 || p.NumContacts() < kParallelContacts)
-    SolveOnOneThread(p, options, layout, result);
-  else if (p.frictional) SolveInDomains<true>(p, options, layout, result);
-  else SolveInDomains<false>(p, options, layout, result);
-  result.report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    SolveOnOneThread(p, options, layout, start, result);
+  else if (p.frictional) SolveInDomains<true>(p, options, layout, start, result);
+  else SolveInDomains<false>(p, options, layout, start, result);
   return result;
 }
 

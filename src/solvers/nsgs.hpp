@@ -9,8 +9,12 @@ namespace unjam {
 class NsgsSolver final : public ContactSolver {
  public:
   std::string Name() const override { return "nsgs"; }
-  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) override;
-  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options) override;
+
+ private:
+  SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                      const SolverGuess& guess) override;
+  SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) override;
 };
 
 }  // namespace unjam

@@ -64,15 +64,16 @@ Eigen::Vector2d SolveLocal(const Eigen::Matrix2d& a, const Eigen::Vector2d& b,
 
 class DelassusSweeper {
  public:
-  DelassusSweeper(const DelassusProblem& p, double omega) : p_(p), omega_(omega) {
+  // From `start` (the guess's impulses, or empty: zero).
+  DelassusSweeper(const DelassusProblem& p, double omega, const Eigen::VectorXd& start)
+      : p_(p), omega_(omega) {
     blocks_.resize(p.NumContacts());
     for (int k = 0; k < p.NumContacts(); ++k) {
       for (int i = 0; i < 2; ++i) {
         for (int j = 0; j < 2; ++j) blocks_[k](i, j) = p.w.coeff(2 * k + i, 2 * k + j);
       }
     }
-    r_ = p.initial_guess.size() == p.NumUnknowns() ? p.initial_guess
-                                                   : Eigen::VectorXd::Zero(p.NumUnknowns());
+    r_ = start.size() == p.NumUnknowns() ? start : Eigen::VectorXd::Zero(p.NumUnknowns());
     u_ = p.w * r_ + p.q;
   }
 
@@ -114,19 +115,15 @@ class DelassusSweeper {
 
 }  // namespace
 
-SolveResult NsgsSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  const auto start = std::chrono::steady_clock::now();
-  DelassusSweeper sweeper(p, options.nsgs.relaxation);
+SolveResult NsgsSolver::DoSolveDelassus(const DelassusProblem& p, const SolverOptions& options,
+                                        const SolverGuess& guess) {
+  DelassusSweeper sweeper(p, options.nsgs.relaxation, guess.impulses);
   SolveResult result;
   result.report.backend = Name();
   auto sweep = [&](const std::vector<std::uint32_t>& order) { sweeper.Sweep(order); };
   auto residual = [&] { return ComputeResidual(p, sweeper.impulses()).residual; };
   solvers_internal::RunSweeps(p.NumContacts(), options, sweep, residual, result.report);
   result.impulses = sweeper.impulses();
-  result.report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

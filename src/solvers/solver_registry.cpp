@@ -9,7 +9,6 @@
 #include "nlopt_solver.hpp"
 #include "nsgs.hpp"
 #include "unjam/solvers/contact_solver.hpp"
-#include "unjam/solvers/residual.hpp"
 
 namespace unjam {
 
@@ -123,20 +122,6 @@ void Validate(const SolverOptions& o) {
   o.ipopt.Validate();
   o.nlopt.Validate();
   o.lemke.Validate();
-}
-
-SolveResult ContactSolver::SolveDelassus(const DelassusProblem& p, const SolverOptions& options) {
-  Validate(p);
-  Validate(options);
-  SolveResult result;
-  result.impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
-  result.report.backend = Name();
-  result.report.status = SolveStatus::kUnsupported;
-  result.report.residual = ComputeResidual(p, result.impulses).residual;
-  result.report.message =
-      "backend '" + Name() +
-      "' solves body problems only, not Delassus-form (W, q) problems (docs/backends.md)";
-  return result;
 }
 
 std::vector<std::string> AvailableBackends() {

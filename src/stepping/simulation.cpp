@@ -58,10 +58,10 @@ StepReport Simulation::Step() {
   assembly.dt = options_.dt;
   assembly.overlap_correction = options_.overlap_correction;
   AssembledProblem assembled = AssembleProblem(scene_, contacts, assembly);
-  assembled.problem.initial_guess = WarmStart(assembled, contacts);
+  const SolverGuess warm_start{WarmStart(assembled, contacts), {}};
 
   StepReport report;
-  SolveResult result = solver_->Solve(assembled.problem, options_.solver);
+  SolveResult result = solver_->Solve(assembled.problem, options_.solver, warm_start);
   report.solve = result.report;
   report.contacts = assembled.problem.NumContacts();
 

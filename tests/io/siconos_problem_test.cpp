@@ -31,7 +31,6 @@ TEST(SiconosRead, OneContactInDenseStorage) {
   EXPECT_EQ(p.q, Eigen::Vector2d(-1.0, 0.4));
   EXPECT_EQ(p.laws[0].mu, 1.0);
   EXPECT_EQ(p.laws[0].kind, ConstraintKind::kUnilateral);
-  EXPECT_EQ(p.initial_guess.size(), 0);
   EXPECT_EQ(p.w.nonZeros(), 2);  // explicit zeros are not stored
 }
 

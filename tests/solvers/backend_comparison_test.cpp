@@ -13,8 +13,8 @@ using testing::StackProblem;
 
 TEST(BackendComparison, RunsEveryCombinationInOrderAndFindsTheUniqueForces) {
   std::vector<ComparisonProblem> problems;
-  problems.push_back({"stack", StackProblem(4, 0.0)});  // frictionless: unique
-  problems.push_back({"slide (W form)", ToDelassusProblem(OneContact(1.0, 3.0, 0.5))});
+  problems.push_back({"stack", StackProblem(4, 0.0), {}});  // frictionless: unique
+  problems.push_back({"slide (W form)", ToDelassusProblem(OneContact(1.0, 3.0, 0.5)), {}});
   ComparisonOptions o;
   o.backends = {"nsgs", "newton"};
   o.tolerances = {1e-6, 1e-12};
@@ -43,9 +43,9 @@ TEST(BackendComparison, UnknownBackendIsRefusedBeforeAnyRun) {
   o.backends = {"nsgs", "no-such-backend"};
   o.tolerances = {1e-6};
   int runs = 0;
-  EXPECT_THROW(
-      CompareBackends({{"stack", StackProblem(2, 0.0)}}, o, [&](const ComparisonRun&) { ++runs; }),
-      std::invalid_argument);
+  EXPECT_THROW(CompareBackends({{"stack", StackProblem(2, 0.0), {}}}, o,
+                               [&](const ComparisonRun&) { ++runs; }),
+               std::invalid_argument);
   EXPECT_EQ(runs, 0);
 }
 

@@ -62,13 +62,37 @@ TEST_P(Backend, RefusesAnInconsistentProblemNamingTheField) {
   ContactProblem mass = OneContact(1.0, 0.3, 1.0);
   mass.inv_mass[0] = -1.0;
   EXPECT_NE(refusal(mass).find("inv_mass[0]"), std::string::npos) << refusal(mass);
-  ContactProblem guess = OneContact(1.0, 0.3, 1.0);
-  guess.initial_guess = Eigen::VectorXd::Zero(3);
-  EXPECT_NE(refusal(guess).find("initial_guess has 3 entries"), std::string::npos)
-      << refusal(guess);
   ContactProblem normal = OneContact(1.0, 0.3, 1.0);
   normal.contacts[0].normal = Vec2(1.0, 1.0);
   EXPECT_NE(refusal(normal).find("contacts[0].normal"), std::string::npos) << refusal(normal);
+}
+
+// A guess of another size than its problem's is refused before any solve, in both forms,
+// naming the field and both sizes; an empty one is a cold start.
+TEST_P(Backend, RefusesAGuessOfAnotherSizeNamingTheField) {
+  auto refusal = [&](auto solve) -> std::string {
+    try {
+      solve();
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const ContactProblem p = OneContact(1.0, 0.3, 1.0);  // 2 unknowns, 1 contact
+  const DelassusProblem w = ToDelassusProblem(p);
+  const auto solver = MakeSolver(GetParam());
+  const SolverGuess impulses{Eigen::VectorXd::Zero(3), {}};
+  const SolverGuess basis{Eigen::VectorXd(), {1, 1}};
+  const std::string body_impulses = refusal([&] { solver->Solve(p, {}, impulses); });
+  EXPECT_NE(body_impulses.find("guess.impulses has 3 entries, expected 2"), std::string::npos)
+      << body_impulses;
+  const std::string body_basis = refusal([&] { solver->Solve(p, {}, basis); });
+  EXPECT_NE(body_basis.find("guess.basis has 2 entries, expected 1"), std::string::npos)
+      << body_basis;
+  const std::string w_impulses = refusal([&] { solver->SolveDelassus(w, {}, impulses); });
+  EXPECT_NE(w_impulses.find("guess.impulses has 3 entries, expected 2"), std::string::npos)
+      << w_impulses;
+  EXPECT_EQ(refusal([&] { solver->Solve(p, {}, SolverGuess{}); }), "accepted");
 }
 
 TEST_P(Backend, StackCarriesTheWeightAbove) {
@@ -207,16 +231,17 @@ TEST(Newton, LargeSystemsCarryTheWeightAbove) {
 TEST(Newton, TheProbeFromANearWarmStartSkipsTheWarmUp) {
   const int k = 12;
   const double w = std::numbers::pi * 0.25;
-  ContactProblem p = StackProblem(k, 0.5);
+  const ContactProblem p = StackProblem(k, 0.5);
   const int m = p.UnknownsPerContact();
-  p.initial_guess = Eigen::VectorXd::Zero(p.NumUnknowns());
-  for (int c = 0; c < k; ++c) p.initial_guess[c * m] = (k - c) * w * (1.0 + 1e-3 * ((c % 3) - 1));
-  ASSERT_GT(ComputeResidual(p, p.initial_guess).residual, 1e-4);
+  SolverGuess guess;
+  guess.impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
+  for (int c = 0; c < k; ++c) guess.impulses[c * m] = (k - c) * w * (1.0 + 1e-3 * ((c % 3) - 1));
+  ASSERT_GT(ComputeResidual(p, guess.impulses).residual, 1e-4);
   for (const bool probe : {true, false}) {
     SolverOptions o;
     o.tolerance = 1e-12;
     o.newton.warm_probe = probe;
-    const SolveResult r = MakeSolver("newton")->Solve(p, o);
+    const SolveResult r = MakeSolver("newton")->Solve(p, o, guess);
     ASSERT_TRUE(r.report.converged()) << r.report.message;
     if (probe) {
       EXPECT_EQ(r.report.contact_updates, 0) << "the probe converged alone";

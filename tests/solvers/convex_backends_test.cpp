@@ -25,8 +25,9 @@ using testing::StackProblem;
 
 const std::vector<std::string> kConvexBackends = {"ipopt", "nlopt"};
 
-SolveResult SolveWith(const std::string& backend, const ContactProblem& p, SolverOptions o) {
-  return MakeSolver(backend)->Solve(p, o);
+SolveResult SolveWith(const std::string& backend, const ContactProblem& p, SolverOptions o,
+                      const SolverGuess& guess = {}) {
+  return MakeSolver(backend)->Solve(p, o, guess);
 }
 
 SolverOptions Tolerance(double tolerance) {
@@ -162,11 +163,10 @@ TEST(ConvexBackends, AgreeWithNewtonOnTheUniqueForcesOfAFrictionlessPacking) {
 }
 
 TEST(ConvexBackends, AnExactWarmStartNeedsNoConvexSolve) {
-  const ContactProblem cold = StackProblem(12, 0.5);
-  ContactProblem warm = cold;
-  warm.initial_guess = SolveWith("nsgs", cold, Tolerance(1e-13)).impulses;
+  const ContactProblem p = StackProblem(12, 0.5);
+  const SolverGuess exact{SolveWith("nsgs", p, Tolerance(1e-13)).impulses, {}};
   for (const std::string& backend : kConvexBackends) {
-    const SolveResult r = SolveWith(backend, warm, Tolerance(1e-12));
+    const SolveResult r = SolveWith(backend, p, Tolerance(1e-12), exact);
     EXPECT_TRUE(r.report.converged()) << backend;
     EXPECT_EQ(r.report.iterations, 0) << backend;
   }

@@ -76,13 +76,15 @@ TEST(DelassusResidual, EqualsTheBodyFormResidualForTheSameImpulses) {
 TEST(DelassusResidual, BundledPileStoredForcesJudgedAlikeInBothForms) {
   const Scene scene =
       ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/gravity-n100-mu0.5.unjam");
-  const ContactProblem p = PoseStaticProblem(scene, StaticSolveOptions{}).assembled.problem;
+  const StaticProblem posed = PoseStaticProblem(scene, StaticSolveOptions{});
+  const ContactProblem& p = posed.assembled.problem;
   const DelassusProblem w = ToDelassusProblem(p);
-  ASSERT_EQ(p.initial_guess.size(), p.NumUnknowns());
+  const Eigen::VectorXd& forces = posed.guess.impulses;
+  ASSERT_EQ(forces.size(), p.NumUnknowns());
   // The stored (converged) forces, then the same forces spoiled by 1%.
-  const double stored = ComputeResidual(p, p.initial_guess).residual;
-  EXPECT_NEAR(ComputeResidual(w, w.initial_guess).residual, stored, 1e-12);
-  const Eigen::VectorXd spoiled = 1.01 * p.initial_guess;
+  const double stored = ComputeResidual(p, forces).residual;
+  EXPECT_NEAR(ComputeResidual(w, forces).residual, stored, 1e-12);
+  const Eigen::VectorXd spoiled = 1.01 * forces;
   const double body = ComputeResidual(p, spoiled).residual;
   EXPECT_GT(body, 1e-4);
   EXPECT_NEAR(ComputeResidual(w, spoiled).residual, body, 1e-12 * body);
@@ -105,7 +107,9 @@ TEST(ToDelassus, FrictionlessProblemGetsObservingTangentRowsWithZeroFriction) {
 TEST(SolveDelassus, DefaultRefusesWithUnsupportedAndNamesTheBackend) {
   struct BodyOnly final : ContactSolver {
     std::string Name() const override { return "body-only"; }
-    SolveResult Solve(const ContactProblem&, const SolverOptions&) override { return {}; }
+    SolveResult DoSolve(const ContactProblem&, const SolverOptions&, const SolverGuess&) override {
+      return {};
+    }
   };
   const SolveResult r = BodyOnly().SolveDelassus(Diagonal(-1.0, 0.4, 1.0), SolverOptions{});
   EXPECT_EQ(r.report.status, SolveStatus::kUnsupported);

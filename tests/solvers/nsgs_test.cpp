@@ -95,15 +95,15 @@ TEST(Nsgs, EverySweepOrderAndRelaxationReachesTheUniqueForces) {
 // A warm start from the solution needs no sweep, in the random order and in the local one
 // (whose own layout of contacts and bodies must take the guess in and give it back intact).
 TEST(Nsgs, WarmStartFromTheSolutionNeedsNoSweep) {
-  ContactProblem p = StackProblem(10, 0.3);
+  const ContactProblem p = StackProblem(10, 0.3);
   SolverOptions o;
   o.tolerance = 1e-12;
   SolveResult cold = MakeSolver("nsgs")->Solve(p, o);
   ASSERT_TRUE(cold.report.converged());
-  p.initial_guess = cold.impulses;
+  const SolverGuess guess{cold.impulses, {}};
   for (SweepOrder order : {SweepOrder::kRandom, SweepOrder::kLocal}) {
     o.nsgs.order = order;
-    SolveResult warm = MakeSolver("nsgs")->Solve(p, o);
+    SolveResult warm = MakeSolver("nsgs")->Solve(p, o, guess);
     EXPECT_TRUE(warm.report.converged()) << ToString(order);
     EXPECT_EQ(warm.report.iterations, 0) << ToString(order);
     EXPECT_EQ(warm.impulses, cold.impulses) << ToString(order);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -22,6 +23,7 @@ struct PileShift {
   PerturbationOptions options;
   PerturbationBase base;
   ContactProblem problem;
+  SolverGuess guess;  // the static forces' impulses
 };
 
 PileShift SmallPileShift() {
@@ -31,7 +33,9 @@ PileShift SmallPileShift() {
   s.base = PreparePerturbations(scene, s.options);
   const std::vector<PerturbationTarget> top = TopTargets(s.base);
   EXPECT_EQ(top[5].i, 33);
-  s.problem = PosePerturbationProblem(s.base, top[5], s.options);
+  StaticProblem posed = PosePerturbationProblem(s.base, top[5], s.options);
+  s.problem = std::move(posed.assembled.problem);
+  s.guess = std::move(posed.guess);
   return s;
 }
 
@@ -44,10 +48,10 @@ TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   SolverOptions o;
   o.tolerance = 1e-13;
   o.lemke.velocity_scale = s.options.gap / s.options.dt;
-  const SolveResult path = MakeSolver("lemke")->Solve(s.problem, o);
+  const SolveResult path = MakeSolver("lemke")->Solve(s.problem, o, s.guess);
   ASSERT_TRUE(path.report.converged()) << path.report.message;
-  const PatternSolution nearest = SolveOnPattern(s.problem, path.impulses, s.problem.initial_guess,
-                                                 o.lemke.velocity_scale, 1.0);
+  const PatternSolution nearest =
+      SolveOnPattern(s.problem, path.impulses, s.guess.impulses, o.lemke.velocity_scale, 1.0);
   ASSERT_TRUE(nearest.found) << nearest.message;
   EXPECT_LT(ComputeResidual(s.problem, nearest.impulses).residual, 1e-13);
   // Another member: impulses that differ by O(1), not by the O(ξ) of the response, and
@@ -55,8 +59,8 @@ TEST(PatternLp, TheNearestMemberOfAnExactAnswersPatternIsExactAndNearer) {
   // the path ends on, which round-off decides: above 1 with the reference BLAS, 0.70 with
   // OpenBLAS; a million ξ tells a member from the response.)
   EXPECT_GT((nearest.impulses - path.impulses).cwiseAbs().maxCoeff(), 1e6 * s.options.gap);
-  EXPECT_LT(L1Distance(nearest.impulses, s.problem.initial_guess),
-            L1Distance(path.impulses, s.problem.initial_guess));
+  EXPECT_LT(L1Distance(nearest.impulses, s.guess.impulses),
+            L1Distance(path.impulses, s.guess.impulses));
   // With the same motion: every end velocity within 1 % of the response of the path's.
   const Eigen::VectorXd v_path = EndVelocity(s.problem, path.impulses);
   const Eigen::VectorXd v_nearest = EndVelocity(s.problem, nearest.impulses);
@@ -69,9 +73,9 @@ TEST(PatternLp, APatternNoSolutionHasIsReported) {
   const PileShift s = SmallPileShift();
   // Pulling impulses (the static ones reversed) read as every contact open: nothing holds
   // the pile up against gravity.
-  const Eigen::VectorXd pulling = -s.problem.initial_guess;
-  const PatternSolution r = SolveOnPattern(s.problem, pulling, s.problem.initial_guess,
-                                           s.options.gap / s.options.dt, 1.0);
+  const Eigen::VectorXd pulling = -s.guess.impulses;
+  const PatternSolution r =
+      SolveOnPattern(s.problem, pulling, s.guess.impulses, s.options.gap / s.options.dt, 1.0);
   EXPECT_FALSE(r.found);
   EXPECT_GT(r.pattern.open,
             0.9 * s.problem.NumContacts());  // all but contacts without a static force
@@ -81,7 +85,7 @@ TEST(PatternLp, APatternNoSolutionHasIsReported) {
 
 TEST(PatternLp, BadInputIsRefused) {
   const PileShift s = SmallPileShift();
-  const Eigen::VectorXd& r = s.problem.initial_guess;
+  const Eigen::VectorXd& r = s.guess.impulses;
   EXPECT_THROW(SolveOnPattern(s.problem, r.head(3), r, 1e-9, 1.0), std::invalid_argument);
   Eigen::VectorXd nan = r;
   nan[0] = std::nan("");

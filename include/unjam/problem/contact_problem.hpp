@@ -21,7 +21,6 @@
 // fraction `overlap_correction` of the step (1 = removed within the step).
 #pragma once
 
-#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -65,14 +64,7 @@ struct ContactProblem {
   std::vector<double> free_spin;    // per body (frictional problems only)
   std::optional<CellDof> cell;
   std::vector<ProblemContact> contacts;
-  // Optional warm start: impulses of the previous step, UnknownsPerContact() per contact.
-  Eigen::VectorXd initial_guess;
-  // Optional, for pivoting backends (lemke, which solves it first as it is): per contact,
-  // the basis of a previous answer (SolveResult::basis), bit k set if the k-th
-  // complementarity variable of the contact's law (lemke.cpp: r_n, a, b, s; p, m if
-  // bilateral; r_n if frictionless) is basic. The answer at gap ξ passes it to the step
-  // at 10ξ, whose contacts are the same. Empty: none.
-  std::vector<std::uint8_t> initial_basis;
+  // What a solve starts from is not part of the problem: SolverGuess (contact_solver.hpp).
 
   int NumBodies() const { return static_cast<int>(inv_mass.size()); }
   int NumContacts() const { return static_cast<int>(contacts.size()); }
@@ -89,7 +81,7 @@ struct ContactProblem {
 // is inconsistent: per-body arrays of another size than inv_mass (inv_inertia and free_spin
 // may be empty without friction), a contact's body outside [−1, NumBodies()), a normal not
 // of unit length (1e-6), a negative or non-finite inverse mass, friction coefficient or
-// time step, a non-finite velocity, bias or target, or a warm start or basis of another size.
+// time step, or a non-finite velocity, bias or target.
 void Validate(const ContactProblem& problem);
 
 Eigen::SparseMatrix<double> AssembleJacobian(const ContactProblem& problem);

@@ -31,8 +31,6 @@ struct DelassusProblem {
   Eigen::SparseMatrix<double> w;  // NumUnknowns() × NumUnknowns()
   Eigen::VectorXd q;              // NumUnknowns()
   std::vector<ContactLaw> laws;   // one per contact
-  // Optional warm start: (r_n, r_t) per contact, or empty.
-  Eigen::VectorXd initial_guess;
 
   int NumContacts() const { return static_cast<int>(laws.size()); }
   int NumUnknowns() const { return 2 * NumContacts(); }
@@ -43,12 +41,11 @@ struct DelassusProblem {
 // problem (one unknown per contact) becomes a two-unknown problem with μ = 0 whose tangent
 // rows are the translational relative velocity t·(v_j − v_i) + bias_t: spins are not degrees
 // of freedom without friction, so they are held fixed (zero inverse inertia). Its normal
-// impulses solve the frictionless problem, and its r_t vanish. The warm start is carried
-// over (r_t = 0 without friction). Pressure-bath problems couple every pair of contacts
-// through the cell rate, so their W is dense in the normal rows.
+// impulses solve the frictionless problem, and its r_t vanish. Pressure-bath problems couple every
+// pair of contacts through the cell rate, so their W is dense in the normal rows.
 DelassusProblem ToDelassusProblem(const ContactProblem& problem);
 
-// Throws std::invalid_argument if the sizes of W, q, the laws or the warm start disagree,
+// Throws std::invalid_argument if the sizes of W, q and the laws disagree,
 // or a friction coefficient is negative or not finite.
 void Validate(const DelassusProblem& problem);
 

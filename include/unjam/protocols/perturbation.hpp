@@ -26,6 +26,7 @@
 
 #include "unjam/contacts/contact.hpp"
 #include "unjam/problem/contact_problem.hpp"
+#include "unjam/protocols/static_solve.hpp"
 #include "unjam/scene/scene.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 
@@ -218,11 +219,11 @@ PerturbationBase PreparePerturbations(const Scene& static_scene,
 PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarget& target,
                            const PerturbationOptions& options);
 
-// The contact problem Perturb solves for this target (warm-started from the static
-// forces), for handing to backends directly (unjam compare).
-ContactProblem PosePerturbationProblem(const PerturbationBase& base,
-                                       const PerturbationTarget& target,
-                                       const PerturbationOptions& options);
+// The contact problem Perturb solves for this target, with its guess (the static forces),
+// for handing to backends directly (unjam compare).
+StaticProblem PosePerturbationProblem(const PerturbationBase& base,
+                                      const PerturbationTarget& target,
+                                      const PerturbationOptions& options);
 
 // Targets. Force-carrying contacts between two particles (fixed ones included), in the
 // order of the stored forces; a sample is drawn without replacement, deterministically

@@ -53,7 +53,7 @@ const char* ToString(StabilityVerdict verdict);
 struct StabilityRow {
   std::string name, backend;
   int contacts = 0;            // detected (a scene's) or stored
-  SolveReport report;          // the static solve (residual recomputed)
+  SolveReport report;          // the static solve (residual of its impulses)
   double siconos_error = 0.0;  // NaN where the problem has no Siconos form
   double equilibrium = 0.0;    // a scene's EquilibriumReport::residual; NaN for a .dat
   bool finite = true;

@@ -56,11 +56,14 @@ struct StaticSolution {
 StaticSolution SolveStatic(const Scene& scene, const StaticSolveOptions& options);
 
 // The contact problem SolveStatic poses (and solves): the detected contacts and the
-// assembled problem of one step from rest, warm-started from the stored forces. For
+// assembled problem of one step from rest, and its guess, the stored forces' impulses. For
 // exporting it (io/siconos_problem.hpp) or handing it to a backend directly.
 struct StaticProblem {
   std::vector<Contact> contacts;
   AssembledProblem assembled;
+  // impulses: Δt × the stored forces (zero for a contact without one); basis: empty, or
+  // set by a caller that continues an earlier answer (a perturbation's small-gap check).
+  SolverGuess guess;
 };
 StaticProblem PoseStaticProblem(const Scene& scene, const StaticSolveOptions& options);
 // Solves a problem PoseStaticProblem(scene, options) has posed, for a caller that has

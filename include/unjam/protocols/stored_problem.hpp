@@ -1,7 +1,7 @@
 // Solving a stored contact problem in Delassus form (another code's `.dat` file, or the
-// exported step of a packing): the backend's impulses judged by the unjam residual,
-// recomputed here whatever the backend reports, and by Siconos' own error measure for
-// side-by-side numbers (docs/residual.md).
+// exported step of a packing): the backend's impulses judged by the unjam residual (the
+// one ContactSolver::SolveDelassus computes, whatever the backend claims), and by Siconos'
+// own error measure for side-by-side numbers (docs/residual.md).
 #pragma once
 
 #include <string>
@@ -15,8 +15,8 @@ namespace unjam {
 
 struct StoredSolution {
   Eigen::VectorXd impulses;  // (r_n, r_t) per contact
-  // The backend's report, with `residual` recomputed from the impulses; a backend that
-  // claims convergence the recomputed residual does not confirm is reported as a
+  // The backend's report, whose `residual` is the impulses' (ContactSolver computes it); a
+  // backend that claims convergence this residual does not confirm is reported as a
   // numerical failure.
   SolveReport report;
   double siconos_error = 0.0;  // SiconosError (residual.hpp)

@@ -16,11 +16,12 @@
 namespace unjam {
 
 // A body problem (a packing's step) or a stored one in Delassus form (a `.dat` file),
-// solved from its initial_guess (empty: from zero). A backend that refuses the form
-// (kUnsupported) appears as such in the runs.
+// solved from `guess` (empty: from zero). A backend that refuses the form (kUnsupported)
+// appears as such in the runs.
 struct ComparisonProblem {
   std::string name;
   std::variant<ContactProblem, DelassusProblem> problem;
+  SolverGuess guess;
 };
 
 struct ComparisonOptions {

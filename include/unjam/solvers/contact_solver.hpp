@@ -1,9 +1,12 @@
 // One small interface for every backend: a ContactProblem in, impulses and a report out.
-// Backends never see the scene. The caller recomputes the residual (residual.hpp) after
-// every solve, whatever the backend claims.
+// Backends never see the scene. ContactSolver::Solve is the one entry point: it checks the
+// problem, the options and the guess, runs the backend (DoSolve), and reports the wall time
+// and the residual (residual.hpp) of the returned impulses, whatever the backend claims.
+// What a solve starts from (SolverGuess) comes beside the problem, not in it, so that one
+// problem can be solved from several starts.
 //
 // A problem may also come in Delassus form (W, q, laws: delassus_problem.hpp), e.g. read
-// from another code's file. A backend solves it through SolveDelassus if it can; the
+// from another code's file. A backend solves it through DoSolveDelassus if it can; the
 // default refuses it with SolveStatus::kUnsupported and a message, so that a backend
 // written for body problems needs no change (docs/backends.md has the support table).
 #pragma once
@@ -86,7 +89,7 @@ struct NewtonParameters {
   double warmup_tolerance = 1e-5;
   // Sweeps of its NSGS warm-up (the limit of each round's warm-up; newton.cpp).
   int warmup_max_sweeps = 100000;
-  // From the problem's warm start, up to 30 Newton iterations alone before the NSGS
+  // From the guess (SolverGuess::impulses), up to 30 Newton iterations alone before the NSGS
   // warm-up (the probe). On a perturbation the warm start, the static forces, is often
   // within Newton's reach; in time stepping the previous step's impulses are not
   // (measured: 1.6x the time per step on a frictionless N = 200 packing). Set by the
@@ -125,7 +128,7 @@ struct NloptParameters {
 struct LemkeParameters {
   // Pivots over all its runs.
   int max_pivots = 100000;
-  // First follow the homotopy from the problem's initial_guess (lemke_mlcp.hpp), then the
+  // First follow the homotopy from the guess (SolverGuess::impulses, lemke_mlcp.hpp), then the
   // cold path from zero impulses. Experimental: off by default.
   bool warm_start = false;
   // The velocity scale of the answer, which sizes the perturbed runs' perturbation
@@ -182,9 +185,22 @@ struct SolveResult {
       impulses;  // UnknownsPerContact() per contact: (r_n[, r_t]); 2 per contact in W form
   SolveReport report;
   // Pivoting backends (lemke): per contact, which of its complementarity variables the
-  // answer's basis holds (ContactProblem::initial_basis), the basis the path ended on or,
+  // answer's basis holds (SolverGuess::basis), the basis the path ended on or,
   // for an answer that is no one basis's solution, the one its stick/slide/open pattern
   // implies; empty from other backends.
+  std::vector<std::uint8_t> basis;
+};
+
+// Where a solve starts (as Drake's SolveWithGuess). Both fields may be empty: a cold start.
+struct SolverGuess {
+  // Impulses to start from, NumUnknowns() of them (the previous step's, or the static
+  // forces before a perturbation); empty: zero impulses.
+  Eigen::VectorXd impulses;
+  // For pivoting backends (lemke, which solves it first as it is; the others ignore it):
+  // per contact, the basis of a previous answer (SolveResult::basis), bit k set if the
+  // k-th complementarity variable of the contact's law (lemke.cpp: r_n, a, b, s; p, m if
+  // bilateral; r_n if frictionless) is basic. The answer at gap ξ passes it to the step at
+  // 10ξ, whose contacts are the same. Empty: none.
   std::vector<std::uint8_t> basis;
 };
 
@@ -196,11 +212,27 @@ class ContactSolver {
   // (not its accuracy), so that results saved by an earlier version are not mixed with
   // new ones (`perturb -o DIR` refuses to resume them). 1 for a backend never changed so.
   virtual int AnswerRevision() const { return 1; }
-  virtual SolveResult Solve(const ContactProblem& problem, const SolverOptions& options) = 0;
-  // The same laws posed on ũ = W r + q. Default: status kUnsupported, zero impulses (with
-  // their residual) and a message naming the backend. Throws std::invalid_argument for
-  // inconsistent sizes (Validate(DelassusProblem)) or options.
-  virtual SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options);
+  // Throws std::invalid_argument for an inconsistent problem (Validate(ContactProblem)),
+  // options (Validate(SolverOptions)) or guess (sizes other than empty or the problem's);
+  // report.seconds times the backend alone, and report.residual is ComputeResidual's of
+  // the returned impulses.
+  SolveResult Solve(const ContactProblem& problem, const SolverOptions& options,
+                    const SolverGuess& guess = {});
+  // The same laws posed on ũ = W r + q, checked by Validate(DelassusProblem), timed and
+  // judged as Solve. A backend without this form answers status kUnsupported, zero
+  // impulses and a message naming the backend.
+  SolveResult SolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                            const SolverGuess& guess = {});
+
+ protected:
+  // The backend proper, on a problem, options and guess already checked (a guess is empty
+  // or of the problem's size). It fills the impulses (NumUnknowns() of them), the basis
+  // and the report; the entry point overwrites the report's residual and seconds.
+  virtual SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
+                              const SolverGuess& guess) = 0;
+  // Default: the refusal described at SolveDelassus.
+  virtual SolveResult DoSolveDelassus(const DelassusProblem& problem, const SolverOptions& options,
+                                      const SolverGuess& guess);
 };
 
 // The one place where backends are chosen by name. Throws std::invalid_argument for an

@@ -22,7 +22,8 @@
 // candidate's residual was. Where no solution has the candidate's pattern, or stage 2
 // cannot reach the motion from stage 1's forces (a third of exact answers measured, for a
 // reason not settled: docs/perturbations.md, "Which member"), it says so.
-// The caller recomputes the residual, as after any backend.
+// The caller computes the residual (ComputeResidual): the pattern LP is no backend, whose
+// entry point would.
 #pragma once
 
 #include <string>
