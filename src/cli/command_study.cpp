@@ -242,6 +242,10 @@ void StudyFlags::Register(CLI::App& app) {
   app.add_option("-o,--output", output, "results folder (default: the configuration's \"output\")");
   app.add_option("--threads", threads, "threads of the perturbations and bounds (0: all cores)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--time-limit", time_limit,
+                 "start no step after S seconds; the tables then hold the finished runs, and the "
+                 "same command continues")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--plan", plan_only, "list the steps (done or to do) and stop");
   app.add_flag("--quiet", quiet, "no progress on stderr");
 }
@@ -359,12 +363,18 @@ int RunStudy(const StudyFlags& f) {
   if (ranks.Barrier(kOk) != kOk) return kInputError;  // rank 0 could not take the study
 
   Progress progress;
+  const auto mine = [&](std::size_t k) {
+    const bool in_time =
+        !f.time_limit ||
+        std::chrono::duration<double>(Clock::now() - start).count() < *f.time_limit;
+    return ranks.Mine(k) && in_time;
+  };
   const std::size_t packs = plan.packings.size();  // StepsOf: the packings first
   for (std::size_t k = 0; k < packs; ++k)
-    if (ranks.Mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
+    if (mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
   progress.worst = ranks.Barrier(progress.worst);
   for (std::size_t k = packs; k < steps.size(); ++k)
-    if (ranks.Mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
+    if (mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
   const int worst = ranks.Barrier(progress.worst);
   if (ranks.rank != 0) return worst;
   WriteOutputs(plan, steps, std::chrono::duration<double>(Clock::now() - start).count());

@@ -13,10 +13,11 @@ namespace unjam::cli {
 
 struct StudyFlags {
   std::string config;
-  std::string size;            // a variant of the config's "sizes"
-  std::string output;          // -o: overrides the config's "output"
-  std::optional<int> threads;  // overrides the config's "threads"
-  bool plan_only = false;      // --plan: list the steps and stop
+  std::string size;                  // a variant of the config's "sizes"
+  std::string output;                // -o: overrides the config's "output"
+  std::optional<int> threads;        // overrides the config's "threads"
+  std::optional<double> time_limit;  // --time-limit S: start no step after S seconds
+  bool plan_only = false;            // --plan: list the steps and stop
   bool quiet = false;
 
   void Register(CLI::App& app);

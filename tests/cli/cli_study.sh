@@ -70,6 +70,12 @@ rm "$run/summary.json" "$run/perturbations.csv"
 grep -q "resuming, 4 of 4 done" "$work/third.err" || fail "resume did not use the records: $(head -c 300 "$work/third.err")"
 cmp -s "$out/summary-pressure.csv" "$work/pressure.csv" || fail "the resumed study changed its table"
 
+# A time limit: no step starts after it; the tables hold the runs finished so far.
+"$unjam" study "$work/tiny.json" -o "$work/later" --time-limit 0 >/dev/null 2>"$work/later.err" || fail "--time-limit 0: exit $?"
+grep -q "11 steps left; the same command continues" "$work/later.err" || fail "--time-limit 0: $(head -c 300 "$work/later.err")"
+[ "$(wc -l <"$work/later/runs.csv")" -eq 1 ] || fail "--time-limit 0: runs.csv should hold its header alone"
+[ -e "$work/later/packings" ] && fail "--time-limit 0 made a packing"
+
 # One writer per study.
 hold_lock "$out/.study.lock"
 expect_code 1 "a second writer" "$unjam" study "$work/tiny.json"
