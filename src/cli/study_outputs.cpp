@@ -177,6 +177,10 @@ std::string TargetKey(bool shift, int i, int j, int ix, int iy) {
   return Format("c%d-%d:%d,%d", i, j, ix, iy);
 }
 
+// An interval narrower than this fraction of its top is a point for F_crit, whose inertial part
+// alone is up to 3e-6 of it (docs/perturbations.md): no position in it.
+constexpr double kPointInterval = 1e-4;
+
 struct Interval {
   double low = kNoValue, high = kNoValue;
 };
@@ -220,8 +224,10 @@ void ReadPerturbationRows(const StudyRunPlan& plan, StudyRun& out) {
       continue;
     low.push_back(b->second.low);
     high.push_back(b->second.high);
+    // μ → 0: the interval is one point, and it places nothing.
     const double width = b->second.high - b->second.low;
-    if (width > 0.0) position.push_back((f - b->second.low) / width);
+    if (width > kPointInterval * std::abs(b->second.high))
+      position.push_back((f - b->second.low) / width);
   }
   out.f_crit_any = MeanOf(any);
   out.rattler_f_crit = MeanOf(rattlers);
