@@ -67,9 +67,9 @@ def groups(rows, *keys):
     return out
 
 
-def save(fig, out, name):
+def save(fig, out, name, dpi=120):
     fig.tight_layout()
-    fig.savefig(os.path.join(out, name), dpi=120)
+    fig.savefig(os.path.join(out, name), dpi=dpi)
     plt.close(fig)
 
 
@@ -222,7 +222,7 @@ def field_maps(study, runs, out):
             sc = ax.scatter(sx, sy, c=v, cmap=cmap, marker="s", s=30)
             fig.colorbar(sc, ax=ax, shrink=0.8)
             ax.set_aspect("equal")
-    save(fig, out, "fields.png")
+    save(fig, out, "fields.png", dpi=80)  # many panels: a smaller file
 
 
 def alpha_vs_n(rows, out):
