@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
@@ -167,6 +168,7 @@ std::vector<Step> StepsOf(const StudyPlan& plan, bool quiet) {
                        return RunPack(PackFlagsOf(p, quiet));
                      }});
   }
+  std::set<fs::path> bounded;
   for (const StudyRunPlan& r : plan.runs) {
     const StudyPacking& p = plan.packings[r.packing];
     steps.push_back({"perturb", "perturb " + p.name + " " + r.kind,
@@ -175,11 +177,8 @@ std::vector<Step> StepsOf(const StudyPlan& plan, bool quiet) {
                        const QuietStdout silence;
                        return RunPerturb(PerturbFlagsOf(p, r, plan.threads, quiet));
                      }});
-    if (!r.bounds) continue;
-    const bool shared = std::any_of(steps.begin(), steps.end(), [&](const Step& s) {
-      return s.label == "bounds " + r.bounds_csv.filename().string() + " " + p.name;
-    });
-    if (shared) continue;  // the openings' bounds, done for the first mode
+    // The openings of every mode share one bounds CSV: one step for it, with the first mode.
+    if (!r.bounds || !bounded.insert(r.bounds_csv).second) continue;
     steps.push_back({"bounds", "bounds " + r.bounds_csv.filename().string() + " " + p.name,
                      [&r] { return fs::exists(r.bounds_csv); },
                      [&p, &r, &plan, quiet] {
@@ -212,18 +211,19 @@ class StepClock {
     total_[kind] += seconds;
     ++count_[kind];
   }
-  std::string Remaining(const std::vector<Step>& steps) const {
+  // `left`: the steps still to do, per kind.
+  std::string Remaining(const std::map<std::string, int>& left) const {
     double seconds = 0.0;
     std::string unknown;
-    std::map<std::string, int> left;
-    for (const Step& s : steps)
-      if (!s.done()) ++left[s.kind];
+    bool any = false;
     for (const auto& [kind, n] : left) {
+      if (n == 0) continue;
+      any = true;
       const auto it = count_.find(kind);
       if (it == count_.end()) unknown += (unknown.empty() ? "" : ", ") + kind;
       else seconds += total_.at(kind) / it->second * n;
     }
-    if (left.empty()) return "nothing left";
+    if (!any) return "nothing left";
     return "about " + Duration(seconds) + " left" +
            (unknown.empty() ? "" : " besides the " + unknown + " steps (not timed yet)");
   }
@@ -274,17 +274,20 @@ class WithoutMpi {
   MpiSession* saved_;
 };
 
+// This process's steps: how many are done, and how many of each kind are still to do (kept
+// here, not asked of every step again after each one: a step's check reads its files).
 struct Progress {
-  int done = 0, worst = kOk;
+  int done = 0, total = 0, worst = kOk;
+  std::map<std::string, int> left;
   StepClock clock;
 };
 
 // Runs one step unless an earlier run finished it. Under several ranks an error is a code,
 // not an exception, so that every rank reaches the barriers.
-void RunStep(const Step& s, const std::vector<Step>& steps, const Ranks& ranks, bool quiet,
-             Progress& p) {
+void RunStep(const Step& s, const Ranks& ranks, bool quiet, Progress& p) {
   const std::string who = ranks.size > 1 ? Format("study[rank %d]", ranks.rank) : "study";
   int code = kOk;
+  --p.left[s.kind];
   try {
     if (s.done()) {
       ++p.done;
@@ -298,8 +301,8 @@ void RunStep(const Step& s, const std::vector<Step>& steps, const Ranks& ranks, 
     if (code == kOk && s.done()) {
       ++p.done;
       if (!quiet)
-        std::fprintf(stderr, "%s: %d of %zu steps done; %s\n", who.c_str(), p.done, steps.size(),
-                     p.clock.Remaining(steps).c_str());
+        std::fprintf(stderr, "%s: %d of %d steps done; %s\n", who.c_str(), p.done, p.total,
+                     p.clock.Remaining(p.left).c_str());
       return;
     }
   } catch (const std::exception& e) {
@@ -363,6 +366,11 @@ int RunStudy(const StudyFlags& f) {
   if (ranks.Barrier(kOk) != kOk) return kInputError;  // rank 0 could not take the study
 
   Progress progress;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    if (!ranks.Mine(k)) continue;
+    ++progress.left[steps[k].kind];
+    ++progress.total;
+  }
   const auto mine = [&](std::size_t k) {
     const bool in_time =
         !f.time_limit ||
@@ -371,10 +379,10 @@ int RunStudy(const StudyFlags& f) {
   };
   const std::size_t packs = plan.packings.size();  // StepsOf: the packings first
   for (std::size_t k = 0; k < packs; ++k)
-    if (mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
+    if (mine(k)) RunStep(steps[k], ranks, f.quiet, progress);
   progress.worst = ranks.Barrier(progress.worst);
   for (std::size_t k = packs; k < steps.size(); ++k)
-    if (mine(k)) RunStep(steps[k], steps, ranks, f.quiet, progress);
+    if (mine(k)) RunStep(steps[k], ranks, f.quiet, progress);
   const int worst = ranks.Barrier(progress.worst);
   if (ranks.rank != 0) return worst;
   WriteOutputs(plan, steps, std::chrono::duration<double>(Clock::now() - start).count());

@@ -318,13 +318,28 @@ std::string Cell(const MeanAndError& m, const char* format = "%.4g") {
   return s + Format(" (%d)", m.count);
 }
 
+// A Markdown table's header line "| a | b |" and the rule under it, one "---|" per column.
+std::string TableHeader(const std::string& header) {
+  std::string rule = "|";
+  for (std::size_t c = 1;
+       c < static_cast<std::size_t>(std::count(header.begin(), header.end(), '|')); ++c)
+    rule += "---|";
+  return header + "\n" + rule + "\n";
+}
+
+// "[0.32, 1.64] (9)": the mean LP interval over `reference`, and how many perturbations.
+std::string IntervalCell(const StudyRow& r, double reference) {
+  if (!std::isfinite(r.lp_min.mean) || !(reference > 0.0)) return "–";
+  return Format("[%.3g, %.3g] (%d)", r.lp_min.mean / reference, r.lp_max.mean / reference,
+                r.lp_min.count);
+}
+
 std::string PressureTable(const std::vector<StudyRow>& rows) {
   std::ostringstream out;
-  out << "| N | μ | mode | packings | openings | ok | dynamic | nonlinear | not-converged | "
-         "blocked | ⟨F_crit⟩/⟨F_cont⟩ (ok) | ⟨F_crit⟩/⟨F⟩ all contacts | any step force / ⟨F⟩ | "
-         "⟨δ⟩ | α | LP [min, max] / ⟨F⟩ | F_crit in LP interval | z | z with rattlers | φ |\n|";
-  for (int c = 0; c < 20; ++c) out << "---|";
-  out << "\n";
+  out << TableHeader(
+      "| N | μ | mode | packings | openings | ok | dynamic | nonlinear | not-converged | blocked "
+      "| ⟨F_crit⟩/⟨F_cont⟩ (ok) | ⟨F_crit⟩/⟨F⟩ all contacts | any step force / ⟨F⟩ | ⟨δ⟩ | α | "
+      "LP [min, max] / ⟨F⟩ | F_crit in LP interval | z | z with rattlers | φ |");
   for (const StudyRow& r : rows) {
     if (r.key.protocol != "pressure") continue;
     const double f = r.mean_contact_force.mean;
@@ -332,23 +347,20 @@ std::string PressureTable(const std::vector<StudyRow>& rows) {
         << " | " << r.perturbations << " | " << r.used << " | " << r.dynamic << " | " << r.nonlinear
         << " | " << r.not_converged << " | " << r.blocked << " | " << Cell(r.ratio) << " | "
         << Cell(r.ratio_all) << " | " << Cell(r.f_crit_any) << " | " << Cell(r.delta) << " | "
-        << Cell(r.alpha) << " | "
-        << (std::isfinite(r.lp_min.mean) && f > 0.0
-                ? Format("[%.3g, %.3g] (%d)", r.lp_min.mean / f, r.lp_max.mean / f, r.lp_min.count)
-                : std::string("–"))
-        << " | " << Cell(r.lp_position, "%.3g") << " | " << Cell(r.z) << " | "
-        << Cell(r.z_with_rattlers) << " | " << Cell(r.packing_fraction) << " |\n";
+        << Cell(r.alpha) << " | " << IntervalCell(r, f) << " | " << Cell(r.lp_position, "%.3g")
+        << " | " << Cell(r.z) << " | " << Cell(r.z_with_rattlers) << " | "
+        << Cell(r.packing_fraction) << " |\n";
   }
   return out.str();
 }
 
 std::string GravityTable(const std::vector<StudyRow>& rows) {
   std::ostringstream os;
-  os << "| N | width | μ | side | piles | shifts | ok | dynamic | nonlinear | not-converged | "
-        "blocked | rattlers | ⟨F_crit⟩/⟨F_y⟩ | ⟨F_y⟩ | ⟨δ⟩ | rattlers' F_crit | LP [min, max] / "
-        "⟨F_y⟩ | F_crit in LP interval | height | z | z with rattlers |\n|";
-  for (int c = 0; c < 21; ++c) os << "---|";
-  os << "\n";
+  os << TableHeader(
+      "| N | width | μ | side | piles | shifts | ok | dynamic | nonlinear | not-converged | "
+      "blocked "
+      "| rattlers | ⟨F_crit⟩/⟨F_y⟩ | ⟨F_y⟩ | ⟨δ⟩ | rattlers' F_crit | LP [min, max] / ⟨F_y⟩ | "
+      "F_crit in LP interval | height | z | z with rattlers |");
   for (const StudyRow& r : rows) {
     if (r.key.protocol != "gravity") continue;
     const double f = r.f_reference.mean;
@@ -356,10 +368,7 @@ std::string GravityTable(const std::vector<StudyRow>& rows) {
        << r.key.kind << " | " << r.packings << " | " << r.perturbations << " | " << r.used << " | "
        << r.dynamic << " | " << r.nonlinear << " | " << r.not_converged << " | " << r.blocked
        << " | " << r.shift_rattlers << " | " << Cell(r.ratio) << " | " << Cell(r.f_reference)
-       << " | " << Cell(r.delta) << " | " << Cell(r.rattler_f_crit) << " | "
-       << (std::isfinite(r.lp_min.mean) && f > 0.0
-               ? Format("[%.3g, %.3g] (%d)", r.lp_min.mean / f, r.lp_max.mean / f, r.lp_min.count)
-               : std::string("–"))
+       << " | " << Cell(r.delta) << " | " << Cell(r.rattler_f_crit) << " | " << IntervalCell(r, f)
        << " | " << Cell(r.lp_position, "%.3g") << " | " << Cell(r.height) << " | " << Cell(r.z)
        << " | " << Cell(r.z_with_rattlers) << " |\n";
   }
