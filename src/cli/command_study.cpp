@@ -315,7 +315,7 @@ void RunStep(const Step& s, const Ranks& ranks, bool quiet, Progress& p) {
   p.worst = std::max(p.worst, code == kOk ? int{kNotConverged} : code);
 }
 
-int WriteOutputs(const StudyPlan& plan, const std::vector<Step>& steps, double seconds) {
+void WriteOutputs(const StudyPlan& plan, const std::vector<Step>& steps, double seconds) {
   std::vector<StudyRun> runs;
   int done = 0;
   for (const Step& s : steps) done += s.done() ? 1 : 0;
@@ -336,7 +336,6 @@ int WriteOutputs(const StudyPlan& plan, const std::vector<Step>& steps, double s
     std::fprintf(stderr, "study: %zu steps left; the same command continues\n",
                  steps.size() - static_cast<std::size_t>(done));
   }
-  return done;
 }
 
 }  // namespace
