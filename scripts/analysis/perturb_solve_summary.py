@@ -31,7 +31,7 @@ def read_records(directory):
     return records
 
 
-PATH_END = re.compile(r"rate path: ([a-z-]+) after \d+ events, (\d+) turns")
+PATH_END = re.compile(r"rate path: ([a-z-]+) after \d+ events, (\d+) turns(, at zero load)?")
 
 
 def path_end(record):
@@ -42,6 +42,8 @@ def path_end(record):
     end, turns = m.group(1), int(m.group(2))
     if end == "collapse":
         return "collapse after folds (t turns back)" if turns > 0 else "collapse, no fold"
+    if end == "cycle" and m.group(3):
+        return "loop at zero load (cycle, t = 0 but at first order)"
     if end in ("cycle", "back"):
         return "back to the start (cycle or t ≤ 0)"
     return end

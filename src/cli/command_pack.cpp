@@ -293,14 +293,15 @@ double PackFlags::StepTolerance() const {
 
 // A tall frictional pile creeps for ever with 500 sweeps per step (each capped step leaves
 // it a little under-supported); 1000 certify the 1600-disk piles at mu = 0.1 and 1
-// (docs/performance.md, "Time step of the packing runs").
+// (docs/performance.md, "Time step and sweep order of the packing runs").
 int PackFlags::StepIterations() const {
   return step_iter.value_or(protocol == "gravity" ? 1000 : 500);
 }
 
 // A pile's sweeps by height cost 1.4x less than random ones; whole runs took 1.3x less on
 // 13 pairs of piles and made the same piles within their seed-to-seed scatter
-// (docs/performance.md, "Piles sweep by height by default"). A cell has no height to sort by.
+// (docs/performance.md, "Time step and sweep order of the packing runs"). A cell has no height to
+// sort by.
 std::string PackFlags::Order() const {
   return order.value_or(protocol == "gravity" ? "height" : "random");
 }
@@ -363,7 +364,7 @@ int RunPack(const PackFlags& f) {
           "hint: %d certificates failed on a calm packing. A marginal one (high friction, "
           "large N) can creep for a very long time; --certificate-lp --closure-gap 1e-4 let the "
           "certificate load contacts up to 1e-4 apart and ask the linear program "
-          "(docs/performance.md, \"What keeps N = 4000, mu = 1 moving\")\n",
+          "(docs/performance.md, \"Time to a jammed packing vs N\")\n",
           r.static_checks);
     };
   }

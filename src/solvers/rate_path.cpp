@@ -32,6 +32,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // (below) decides between them.
 constexpr double kRateTolerance = 1e-13;
 constexpr double kTie = 1e-11;
+// |t| below this at order zero: the path has not left its start (t of a collapse is O(1)+).
+constexpr double kZeroLoad = 1e-9;
 
 // A number of the perturbed problem, v₀ + ε v₁ for an infinitesimal ε > 0: every bound of
 // the contact law is moved outward by ε times a weight (distinct for every bound), which
@@ -127,7 +129,11 @@ class PathFollower {
     direction_ = projector_ * p_.driver;
     seen_.clear();
     const RatePathEnd end = Follow(kInf, out);
-    return Finish(end, "", out);
+    // A state that recurs while t has not moved but at first order in ε: the path is a
+    // loop through the degenerate static state (contacts exactly on their cone's edge),
+    // which no event cap or tie-break changes (docs/performance.md, "The rate solve").
+    const bool at_zero_load = end == RatePathEnd::kCycle && std::abs(t_.v0) <= kZeroLoad;
+    return Finish(end, at_zero_load ? "at zero load" : "", out);
   }
 
  private:
