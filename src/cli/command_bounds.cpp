@@ -128,13 +128,13 @@ std::vector<int> SelectContacts(const std::string& spec, const Scene& scene,
 
 struct Comparison {
   std::vector<double> f_crit;  // NaN where the perturbation has no usable response
-  std::vector<std::string> status;
+  std::vector<PerturbationStatus> status;
   // Per contact: 1 if the quasi-static F_crit lies in [LP min, LP max without friction],
   // 0 if not, −1 where that does not apply (no quasi-static F_crit, or no such interval).
   std::vector<int> inside;
   int used = 0;
   double mean_rel_diff = std::nan(""), max_rel_diff = std::nan("");
-  int WithStatus(const std::string& s) const {
+  int WithStatus(PerturbationStatus s) const {
     return static_cast<int>(std::count(status.begin(), status.end(), s));
   }
   int WithInside(int value) const {
@@ -172,7 +172,7 @@ Comparison ComparePerturbations(const Scene& scene, const EquilibriumSystem& s,
   }
   Comparison out;
   out.f_crit.assign(targets.size(), std::nan(""));
-  out.status.assign(targets.size(), "");
+  out.status.assign(targets.size(), PerturbationStatus::kNotConverged);
   out.inside.assign(targets.size(), -1);
   double sum = 0.0, worst = 0.0;
   PerturbAll(base, targets, o, threads, [&](int k, const PerturbationResult& r) {
@@ -210,7 +210,7 @@ std::string Csv(const EquilibriumSystem& s, const BoundsReport& r, const Compari
        << Number(b.max_without_friction) << ',' << ToString(b.min.status) << ','
        << ToString(b.max.status) << ',' << ToString(b.max_without_friction.status);
     if (cmp) {
-      os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << cmp->status[a] << ','
+      os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << ToString(cmp->status[a]) << ','
          << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
     }
     os << "\n";
@@ -487,8 +487,8 @@ int RunBounds(const BoundsFlags& f) {
     out["compared"] = cmp->used;
     out["mean_rel_diff_fcrit"] = NumberOrNull(cmp->mean_rel_diff);
     out["max_rel_diff_fcrit"] = NumberOrNull(cmp->max_rel_diff);
-    out["quasi_static"] = cmp->WithStatus("ok");
-    out["dynamic"] = cmp->WithStatus("dynamic");
+    out["quasi_static"] = cmp->WithStatus(PerturbationStatus::kOk);
+    out["dynamic"] = cmp->WithStatus(PerturbationStatus::kDynamic);
     out["inside_interval"] = cmp->WithInside(1);
     out["outside_interval"] = cmp->WithInside(0);
   }

@@ -24,10 +24,10 @@ using Clock = std::chrono::steady_clock;
 struct ShiftComparison {
   std::vector<double> f_crit;  // resolved quasi-static answers (`ok` or `nonlinear`); NaN otherwise
   std::vector<double> f_crit_10xi;  // the answer at 10ξ of the small-gap check
-  std::vector<std::string> status;
+  std::vector<PerturbationStatus> status;
   std::vector<int>
       inside;  // 1 / 0: a quasi-static F_crit inside [min, max] or not; −1: no such F_crit
-  int WithStatus(const std::string& s) const {
+  int WithStatus(PerturbationStatus s) const {
     return static_cast<int>(std::count(status.begin(), status.end(), s));
   }
   int WithInside(int value) const {
@@ -60,7 +60,7 @@ ShiftComparison CompareShifts(const PerturbationBase& base,
   ShiftComparison out;
   out.f_crit.assign(targets.size(), std::nan(""));
   out.f_crit_10xi.assign(targets.size(), std::nan(""));
-  out.status.assign(targets.size(), "");
+  out.status.assign(targets.size(), PerturbationStatus::kNotConverged);
   out.inside.assign(targets.size(), -1);
   PerturbAll(base, targets, PerturbationOptions{}, threads,
              [&](int k, const PerturbationResult& r) {
@@ -90,7 +90,8 @@ std::string Csv(const Scene& scene, const ShiftBoundsReport& r, const std::vecto
        << ToString(b.min.status) << ',' << ToString(b.max.status) << ',' << b.unloaded_contacts;
     if (cmp)
       os << ',' << ExactNumber(cmp->f_crit[a]) << ',' << ExactNumber(cmp->f_crit_10xi[a]) << ','
-         << cmp->status[a] << ',' << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
+         << ToString(cmp->status[a]) << ','
+         << (cmp->inside[a] < 0 ? "" : std::to_string(cmp->inside[a]));
     os << "\n";
   }
   return os.str();
@@ -175,8 +176,9 @@ void PrintShiftBounds(const SelectedShifts& selection, std::size_t shifts,
     std::printf(
         "perturb            %d ok, %d nonlinear (quasi-static: %d inside [LP min, LP max], %d "
         "outside), %d dynamic, %d blocked\n",
-        cmp->WithStatus("ok"), cmp->WithStatus("nonlinear"), cmp->WithInside(1), cmp->WithInside(0),
-        cmp->WithStatus("dynamic"), cmp->WithStatus("blocked"));
+        cmp->WithStatus(PerturbationStatus::kOk), cmp->WithStatus(PerturbationStatus::kNonlinear),
+        cmp->WithInside(1), cmp->WithInside(0), cmp->WithStatus(PerturbationStatus::kDynamic),
+        cmp->WithStatus(PerturbationStatus::kBlocked));
   }
   std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations, %s)\n", seconds,
               report.seconds, report.lp_iterations, cold ? "cold" : "warm");
@@ -244,10 +246,10 @@ int RunShiftBounds(const BoundsFlags& f) {
                         {"threads", threads},
                         {"seconds", seconds}};
   if (cmp) {
-    out["quasi_static"] = cmp->WithStatus("ok");
-    out["nonlinear"] = cmp->WithStatus("nonlinear");
-    out["dynamic"] = cmp->WithStatus("dynamic");
-    out["blocked"] = cmp->WithStatus("blocked");
+    out["quasi_static"] = cmp->WithStatus(PerturbationStatus::kOk);
+    out["nonlinear"] = cmp->WithStatus(PerturbationStatus::kNonlinear);
+    out["dynamic"] = cmp->WithStatus(PerturbationStatus::kDynamic);
+    out["blocked"] = cmp->WithStatus(PerturbationStatus::kBlocked);
     out["inside_interval"] = cmp->WithInside(1);
     out["outside_interval"] = cmp->WithInside(0);
   }

@@ -256,7 +256,7 @@ std::string PerturbationsCsv(const std::map<int, ReducedResponse>& records) {
         r.target.image[1], r.origin.x(), r.origin.y(), r.axis.x(), r.axis.y(), r.f_reference,
         r.f_crit, r.penetration_depth, r.cell_strain, r.pressure_change, r.inertia_ratio,
         r.inertial_force, r.fcrit_10xi, r.linearity_misfit, r.equilibrium_residual, r.iterations,
-        r.residual, r.status.c_str(), r.rattler ? 1 : 0, r.seconds, r.backend.c_str());
+        r.residual, ToString(r.status), r.rattler ? 1 : 0, r.seconds, r.backend.c_str());
   }
   return os.str();
 }
@@ -501,7 +501,7 @@ void PrintProgress(const PerturbationResult& r, int done, int total, int rank, i
   std::fprintf(
       stderr, "%s %s: F_crit %.6g (ref %.6g) delta %.4g %s, %d it, residual %.2e, %.2f s\n",
       who.c_str(), TargetName(r.target).c_str(), r.f_crit, r.f_reference, r.penetration_depth,
-      r.status.c_str(), r.solve.iterations, r.solve.residual, r.seconds);
+      ToString(r.status), r.solve.iterations, r.solve.residual, r.seconds);
   if (!r.resolved)
     std::fprintf(stderr, "  %s: %s\n", r.solve.backend.c_str(), r.solve.message.c_str());
 }

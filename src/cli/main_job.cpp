@@ -37,7 +37,7 @@ double Since(Clock::time_point t) {
 struct Row {
   PerturbationTarget target;
   double f_cont = 0.0, f_crit = std::nan(""), delta = std::nan(""), residual = std::nan("");
-  std::string status;
+  PerturbationStatus status = PerturbationStatus::kNotConverged;
   Bound lp_min, lp_max, lp_max_without_friction;
 };
 
@@ -86,7 +86,7 @@ void PrintTable(const std::vector<Row>& rows) {
     std::printf("%9s %10s %s %s %s %s %s %8.3g %9.2e  %s\n", "",
                 Format("%d-%d", r.target.i, r.target.j).c_str(), Cell(r.f_cont).c_str(),
                 Cell(r.f_crit).c_str(), Cell(r.lp_min).c_str(), Cell(r.lp_max).c_str(),
-                Cell(r.lp_max_without_friction).c_str(), r.delta, r.residual, r.status.c_str());
+                Cell(r.lp_max_without_friction).c_str(), r.delta, r.residual, ToString(r.status));
   }
 }
 
@@ -100,7 +100,7 @@ std::string TableCsv(const std::vector<Row>& rows) {
                  r.target.image[1], r.f_cont, r.f_crit)
        << bound(r.lp_min) << ',' << bound(r.lp_max) << ',' << bound(r.lp_max_without_friction)
        << ',' << ToString(r.lp_max_without_friction.status)
-       << Format(",%.17g,%.6e,", r.delta, r.residual) << r.status << "\n";
+       << Format(",%.17g,%.6e,", r.delta, r.residual) << ToString(r.status) << "\n";
   }
   return os.str();
 }
@@ -109,7 +109,7 @@ std::string TableCsv(const std::vector<Row>& rows) {
 FigureStatus PlotField(const std::filesystem::path& dir, const PerturbationResult& r, double gap) {
   const std::string title =
       Format("contact %d-%d opened by xi = %.3g: F_crit %.5g, delta %.3g (%s)", r.target.i,
-             r.target.j, gap, r.f_crit, r.penetration_depth, r.status.c_str());
+             r.target.j, gap, r.f_crit, r.penetration_depth, ToString(r.status));
   return RunPlotScript("plot_displacement.py",
                        {(dir / "displacement.csv").string(), (dir / "displacement.png").string(),
                         "--gap", Format("%.17g", gap), "--origin", Format("%.17g", r.origin.x()),
@@ -193,7 +193,7 @@ int RunMainJob(const MainJobFlags& flags) {
     case FigureStatus::kDrawn:
       std::printf("figure           %s (contact %d-%d, %s), %.2f s\n",
                   (dir / "displacement.png").c_str(), shown->target.i, shown->target.j,
-                  shown->status.c_str(), Since(t));
+                  ToString(shown->status), Since(t));
       break;
     case FigureStatus::kSkipped:
       std::printf("figure           skipped: %s\n", FiguresSkippedReason());

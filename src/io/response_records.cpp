@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "unjam/io/json_lines.hpp"
@@ -71,7 +72,7 @@ nlohmann::json ToJson(const ReducedResponse& r) {
           {"residual", r.residual},
           {"seconds", r.seconds},
           {"iterations", r.iterations},
-          {"status", r.status},
+          {"status", ToString(r.status)},
           {"message", r.message},
           {"backend", r.backend},
           {"rattler", r.rattler},
@@ -102,7 +103,11 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.residual = j.at("residual").get<double>();
     r.seconds = j.at("seconds").get<double>();
     r.iterations = j.at("iterations").get<int>();
-    r.status = j.at("status").get<std::string>();
+    const std::string status = j.at("status").get<std::string>();
+    const std::optional<PerturbationStatus> known = PerturbationStatusFromString(status);
+    if (!known)
+      throw InputError(where, 0, "bad perturbation record: unknown status '" + status + "'");
+    r.status = *known;
     r.message = j.at("message").get<std::string>();
     r.backend = j.at("backend").get<std::string>();
     r.rattler = j.at("rattler").get<bool>();

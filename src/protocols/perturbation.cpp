@@ -417,7 +417,7 @@ PerturbationResult Blocked(const PerturbationBase& base, const std::string& deci
                            const std::string& why, PerturbationResult r, Clock::time_point start) {
   r.solve.status = SolveStatus::kNumericalFailure;
   r.resolved = false;
-  r.status = "blocked";
+  r.status = PerturbationStatus::kBlocked;
   return DecidedWithoutSolving(base, decided_by, why, std::move(r), start);
 }
 
@@ -484,7 +484,7 @@ std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& b
   d.solve.status = SolveStatus::kConverged;
   d.solve.iterations = bound.iterations;
   d.resolved = true;
-  d.status = "dynamic";
+  d.status = PerturbationStatus::kDynamic;
   d.inertia_ratio = bound.ratio;
   char why[200];
   std::snprintf(why, sizeof why,
@@ -561,7 +561,9 @@ void Measure(const PerturbationBase& base, const PerturbationOptions& options,
                                  : 1.0;
   const double absolute = r.solve.residual * std::max(1.0, scale_ratio);
   r.resolved = absolute <= solve.solver.tolerance * ResponseSize(r.displacement, options.gap);
-  r.status = !r.resolved ? "not-converged" : !r.quasi_static ? "dynamic" : "ok";
+  r.status = !r.resolved       ? PerturbationStatus::kNotConverged
+             : !r.quasi_static ? PerturbationStatus::kDynamic
+                               : PerturbationStatus::kOk;
 }
 
 // Solves the posed step with solve.backend and measures the answer into r; where that
@@ -628,11 +630,11 @@ void MeasureOnPattern(const PerturbationBase& base, const RateBase& rb, const Ra
   StaticSolution s = SolutionOf(perturbed, posed, step, options.dt);
   Measure(base, options, solve, s, r);
   const int closing = ContactClosedAt(posed, step.impulses, kLinearityGapFactor);
-  if (r.status == "ok" && closing >= 0) {
+  if (r.status == PerturbationStatus::kOk && closing >= 0) {
     const Contact& c = posed.contacts[static_cast<std::size_t>(
         posed.assembled.source_contact[static_cast<std::size_t>(closing)])];
     r.linear = false;
-    r.status = "nonlinear";
+    r.status = PerturbationStatus::kNonlinear;
     r.solve.message += "; at 10 xi the response closes the open contact (" + std::to_string(c.i) +
                        ", " + std::to_string(c.j) + ")";
   }
@@ -657,7 +659,7 @@ void CheckLinearityOnPattern(const PerturbationBase& base, const PerturbationTar
   r.solve.message += "; 10 xi check: residual " + FormatResidual(check.solve.residual);
   if (!check.resolved) {
     r.linear = false;
-    r.status = "nonlinear";
+    r.status = PerturbationStatus::kNonlinear;
     r.solve.message += ", not a solution of the step at 10 xi";
     return;
   }
@@ -689,7 +691,7 @@ std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base,
       d.solve.status = SolveStatus::kConverged;
       d.solve.iterations = lp.iterations;
       d.resolved = true;
-      d.status = "dynamic";
+      d.status = PerturbationStatus::kDynamic;
       return DecidedWithoutSolving(
           base, "static LP",
           "no static network holds the packing with the perturbation's forces released (" +
@@ -706,7 +708,7 @@ std::optional<PerturbationResult> PerturbByRate(const PerturbationBase& base,
                FormatResidual(r.solve.residual) + ")";
     return std::nullopt;
   }
-  if (r.status == "ok" && options.check_linearity)
+  if (r.status == PerturbationStatus::kOk && options.check_linearity)
     CheckLinearityOnPattern(base, target, rb, rt, path, options, r);
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return r;
@@ -775,7 +777,7 @@ void JudgeLinearity(const PerturbationBase& base, const PerturbationResult& scal
   r.linearity_misfit = LinearityMisfit(r.displacement, scaled.displacement, kLinearityGapFactor);
   r.linear = scaled.quasi_static && r.linearity_misfit <= kLinearityMisfit &&
              std::abs(scaled.f_crit - r.f_crit) <= kLinearityForceChange * base.mean_contact_force;
-  if (!r.linear) r.status = "nonlinear";
+  if (!r.linear) r.status = PerturbationStatus::kNonlinear;
 }
 }  // namespace
 
@@ -806,7 +808,7 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
       PerturbOnce(base, target, scaled, options.check_by_continuation ? &answer : nullptr);
   if (!check.resolved) {  // no verdict: the result cannot be certified
     r.resolved = false;
-    r.status = "not-converged";
+    r.status = PerturbationStatus::kNotConverged;
     r.solve.message += (r.solve.message.empty() ? "" : "; ") +
                        std::string("the 10 xi check did not converge: ") + check.solve.message;
   } else {

@@ -374,11 +374,11 @@ EnsembleSummary Summarize(const std::vector<ReducedResponse>& records, const Res
   std::vector<const ReducedResponse*> used;
   std::vector<double> fc, fr, delta;
   for (const ReducedResponse& r : records) {
-    if (r.status == "not-converged") ++out.not_converged;
-    if (r.status == "dynamic") ++out.dynamic;
-    if (r.status == "nonlinear") ++out.nonlinear;
-    if (r.status == "blocked") ++out.blocked;
-    if (r.status == "ok" && r.rattler) ++out.rattlers;
+    if (r.status == PerturbationStatus::kNotConverged) ++out.not_converged;
+    if (r.status == PerturbationStatus::kDynamic) ++out.dynamic;
+    if (r.status == PerturbationStatus::kNonlinear) ++out.nonlinear;
+    if (r.status == PerturbationStatus::kBlocked) ++out.blocked;
+    if (r.status == PerturbationStatus::kOk && r.rattler) ++out.rattlers;
     if (!r.Used()) continue;
     used.push_back(&r);
     fc.push_back(r.f_crit);

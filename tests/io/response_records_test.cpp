@@ -22,7 +22,7 @@ ReducedResponse SomeRecord() {
   r.f_crit = 2.0 / 3.0;
   r.f_reference = std::sqrt(2.0);
   r.penetration_depth = 1e-300;
-  r.status = "ok";
+  r.status = PerturbationStatus::kOk;
   r.rattler = true;
   r.fcrit_10xi = 2.0 / 3.0 + 1e-9;
   r.displacement_profile = {1.5, std::numeric_limits<double>::quiet_NaN(), 0.1};
@@ -85,6 +85,27 @@ TEST(ResponseRecords, TornLastLineIsDroppedAndBadLinesNamed) {
     EXPECT_NE(std::string(e.what()).find(":2"), std::string::npos) << e.what();
   }
   std::filesystem::remove(path);
+}
+
+// Every status a record can hold comes back as itself; any other word is refused where it
+// stands, not read as some status.
+TEST(ResponseRecords, StatusesRoundTripAndUnknownOnesAreRefused) {
+  for (PerturbationStatus s :
+       {PerturbationStatus::kOk, PerturbationStatus::kNotConverged, PerturbationStatus::kDynamic,
+        PerturbationStatus::kNonlinear, PerturbationStatus::kBlocked}) {
+    ReducedResponse r = SomeRecord();
+    r.status = s;
+    EXPECT_EQ(ReducedResponseFromJson(nlohmann::json::parse(ToJson(r).dump()), "test").status, s);
+  }
+  nlohmann::json line = ToJson(SomeRecord());
+  line["status"] = "maybe";
+  try {
+    ReducedResponseFromJson(line, "records.jsonl:7");
+    FAIL() << "an unknown status was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("records.jsonl:7"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("maybe"), std::string::npos) << e.what();
+  }
 }
 
 // A records file of other parameters is refused, naming it and the remedy.

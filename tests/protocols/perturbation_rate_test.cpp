@@ -60,12 +60,13 @@ TEST(RatePerturbation, DefaultPackingOpeningsAreDecidedAndAgreeWithLemke) {
   int by_lp = 0, by_rate = 0;
   for (const PerturbationTarget& t : SampleTargets(ContactTargets(base), 10, 4)) {
     const PerturbationResult r = Perturb(base, t, o);
-    ASSERT_NE(r.status, "not-converged") << t.i << "-" << t.j << ": " << r.solve.message;
+    ASSERT_NE(r.status, PerturbationStatus::kNotConverged)
+        << t.i << "-" << t.j << ": " << r.solve.message;
     if (r.solve.backend == "static LP") {
       ++by_lp;
-      EXPECT_EQ(r.status, "dynamic");
+      EXPECT_EQ(r.status, PerturbationStatus::kDynamic);
       EXPECT_TRUE(std::isnan(r.f_crit));
-      EXPECT_EQ(Perturb(base, t, lemke).status, "dynamic") << t.i << "-" << t.j;
+      EXPECT_EQ(Perturb(base, t, lemke).status, PerturbationStatus::kDynamic) << t.i << "-" << t.j;
       continue;
     }
     if (r.solve.backend != "rate") continue;
@@ -120,7 +121,7 @@ TEST(RatePerturbation, SmallPileShiftsAreDecided) {
   int by_rate = 0;
   for (const PerturbationTarget& t : targets) {
     const PerturbationResult r = Perturb(base, t, o);
-    ASSERT_NE(r.status, "not-converged") << t.i << ": " << r.solve.message;
+    ASSERT_NE(r.status, PerturbationStatus::kNotConverged) << t.i << ": " << r.solve.message;
     if (r.solve.backend != "rate" || !r.ok() || t.direction.y() > 0.0) continue;
     ++by_rate;
     const ShiftBoundsReport lp = ComputeShiftBounds(system, {{t.i, t.direction}}, {});

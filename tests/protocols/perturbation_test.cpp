@@ -70,7 +70,7 @@ TEST(Perturbation, VGrooveOpeningNeedsTheStaticForceAndSlidesAlongTheOtherSuppor
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationResult r = Perturb(base, Opening(0, 2), o);
-  ASSERT_EQ(r.status, "ok") << r.solve.residual;
+  ASSERT_EQ(r.status, PerturbationStatus::kOk) << r.solve.residual;
   EXPECT_NEAR(r.f_reference, static_force, 1e-12);
   EXPECT_NEAR(r.f_crit, static_force, 1e-7 * static_force);
   // Kinematics: the opened contact moves apart by ξ, the other stays closed.
@@ -92,7 +92,8 @@ TEST(Perturbation, VGrooveOpeningNeedsTheStaticForceAndSlidesAlongTheOtherSuppor
   PerturbationOptions short_step = o;
   short_step.dt = 0.1;
   const PerturbationResult rdt = Perturb(base, Opening(0, 2), short_step);
-  ASSERT_EQ(rdt.status, "ok") << rdt.inertia_ratio << " " << rdt.linearity_misfit;
+  ASSERT_EQ(rdt.status, PerturbationStatus::kOk)
+      << rdt.inertia_ratio << " " << rdt.linearity_misfit;
   EXPECT_LT(rdt.linearity_misfit, 1e-3);
   EXPECT_NEAR(rdt.f_crit, r.f_crit, 1e-6 * static_force);
   EXPECT_LT((rdt.displacement[2] - r.displacement[2]).norm(), 1e-3 * o.gap);
@@ -129,7 +130,7 @@ TEST(Perturbation, LiftingADiskOfAColumnLiftsTheDiskAbove) {
   EXPECT_EQ(bottom[0].i, 1);
   EXPECT_EQ(bottom[0].direction, Vec2(0.0, 1.0));
   const PerturbationResult r = Perturb(base, bottom[0], o);
-  ASSERT_EQ(r.status, "ok") << r.solve.residual;
+  ASSERT_EQ(r.status, PerturbationStatus::kOk) << r.solve.residual;
   const double m1 = scene.particles[1].Mass(), m2 = scene.particles[2].Mass();
   // It carries the disk above, and accelerates it by ξ/Δt within the step (the inertial
   // part, ξ/Δt² relative to g: 1e-9 here).
@@ -242,13 +243,13 @@ TEST(Perturbation, PushingIntoARigidColumnIsReportedNotMeasured) {
   // kinematic LP says so before any solver runs (Newton used to find forces ~200× the
   // static ones with the disks overlapping by ξ/2), and no force is reported.
   EXPECT_FALSE(r.ok());
-  EXPECT_EQ(r.status, "blocked") << r.f_crit << " " << r.solve.residual;
+  EXPECT_EQ(r.status, PerturbationStatus::kBlocked) << r.f_crit << " " << r.solve.residual;
   EXPECT_TRUE(std::isnan(r.f_crit));
   // Lifting the middle disk is not blocked (the column test above measures it).
   PerturbationTarget lift = top[0];
   lift.i = 1;
   lift.direction = Vec2(0.0, 1.0);
-  EXPECT_NE(Perturb(base, lift, o).status, "blocked");
+  EXPECT_NE(Perturb(base, lift, o).status, PerturbationStatus::kBlocked);
 }
 
 // The top disk of the column lifted by ξ leaves its only contact: it needs no force (a
@@ -262,7 +263,7 @@ TEST(Perturbation, LiftingALoneDiskNeedsNoForce) {
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationTarget lift = ParticleShift(base, 2, Vec2(0.0, 1.0));
   const PerturbationResult r = Perturb(base, lift, o);
-  ASSERT_EQ(r.status, "ok") << r.solve.message;
+  ASSERT_EQ(r.status, PerturbationStatus::kOk) << r.solve.message;
   EXPECT_EQ(r.f_crit, 0.0);
   EXPECT_FALSE(std::signbit(r.f_crit));
   EXPECT_EQ(r.solve.backend, "rate") << r.solve.message;
@@ -271,11 +272,11 @@ TEST(Perturbation, LiftingALoneDiskNeedsNoForce) {
   EXPECT_TRUE(Reduce(base, r, MakeLayout(base, ensemble, o.gap), ensemble).rattler);
   o.backend = "lemke";
   const PerturbationResult by_lemke = Perturb(base, lift, o);
-  EXPECT_EQ(by_lemke.status, "ok");
+  EXPECT_EQ(by_lemke.status, PerturbationStatus::kOk);
   EXPECT_EQ(by_lemke.f_crit, 0.0);
   o.backend = "newton";
   o.fallback = "none";
-  EXPECT_EQ(Perturb(base, lift, o).status, "not-converged");
+  EXPECT_EQ(Perturb(base, lift, o).status, PerturbationStatus::kNotConverged);
 }
 
 // k equal disks (radius 1/2, mass π/4) stacked on a floor in a frictionless channel one
@@ -297,7 +298,7 @@ TEST(Perturbation, AColumnInAChannelOneDiameterWide) {
     const PerturbationBase base = PreparePerturbations(scene, o);
     const double m = scene.particles[0].Mass();
     const PerturbationResult lift = Perturb(base, ParticleShift(base, 0, Vec2(0.0, 1.0)), o);
-    ASSERT_EQ(lift.status, "ok") << "k = " << k << ": " << lift.solve.message;
+    ASSERT_EQ(lift.status, PerturbationStatus::kOk) << "k = " << k << ": " << lift.solve.message;
     EXPECT_NEAR(lift.f_crit, (k - 1) * m * (1.0 + o.gap / (o.dt * o.dt)), 1e-12 * k) << "k = " << k;
     EXPECT_NEAR(lift.f_reference, k * m, 1e-10 * k)
         << "k = " << k;  // F_y: the floor carries the column
@@ -307,7 +308,7 @@ TEST(Perturbation, AColumnInAChannelOneDiameterWide) {
     EXPECT_EQ(lift.displacement[0], Vec2(0.0, o.gap));
     EXPECT_NEAR(lift.penetration_depth, (k - 1) / 2.0, 1e-3) << "k = " << k;
     const PerturbationResult push = Perturb(base, ParticleShift(base, k - 1, Vec2(0.0, -1.0)), o);
-    EXPECT_EQ(push.status, "blocked") << "k = " << k << ": " << push.f_crit;
+    EXPECT_EQ(push.status, PerturbationStatus::kBlocked) << "k = " << k << ": " << push.f_crit;
     EXPECT_EQ(push.solve.backend, k == 1 ? "known motion" : "kinematic LP") << "k = " << k;
   }
 }
@@ -320,11 +321,11 @@ TEST(Perturbation, ShiftingADiskOnFixedSupports) {
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const PerturbationResult up = Perturb(base, ParticleShift(base, 2, Vec2(0.0, 1.0)), o);
-  EXPECT_EQ(up.status, "ok") << up.solve.message;
+  EXPECT_EQ(up.status, PerturbationStatus::kOk) << up.solve.message;
   EXPECT_EQ(up.f_crit, 0.0);
   EXPECT_EQ(up.linearity_misfit, 0.0);
   const PerturbationResult down = Perturb(base, ParticleShift(base, 2, Vec2(0.0, -1.0)), o);
-  EXPECT_EQ(down.status, "blocked");
+  EXPECT_EQ(down.status, PerturbationStatus::kBlocked);
   EXPECT_TRUE(std::isnan(down.f_crit));
   EXPECT_NE(down.solve.message.find("neither of which can give way"), std::string::npos)
       << down.solve.message;
@@ -513,7 +514,7 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
   const ResponseLayout layout = MakeLayout(base, EnsembleOptions{}, o.gap);
   for (const PerturbationTarget& t : targets) {
     const PerturbationResult r = Perturb(base, t, o);
-    ASSERT_EQ(r.status, "ok") << r.solve.residual;
+    ASSERT_EQ(r.status, PerturbationStatus::kOk) << r.solve.residual;
     EXPECT_NEAR(r.f_crit / r.f_reference, 1.0, 1e-5);
     // Virtual work over the step: the excess over F_cont is the inertia of the mechanism
     // (grains and cell), linear in ξ. Here a tenth of a percent of it is the cell's, and
@@ -535,7 +536,7 @@ TEST(Perturbation, FrictionlessPackingOpeningsCarryTheStaticForce) {
   volume.cell = CellCondition::kFixedVolume;
   for (const PerturbationTarget& t : targets) {
     const PerturbationResult v = Perturb(base, t, volume);
-    EXPECT_EQ(v.status, "blocked") << v.f_crit;
+    EXPECT_EQ(v.status, PerturbationStatus::kBlocked) << v.f_crit;
     EXPECT_TRUE(std::isnan(v.f_crit));
   }
 }
@@ -565,8 +566,8 @@ TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
   ASSERT_EQ(dynamic.i, 38);
   const PerturbationResult solved = Perturb(base, dynamic, o);
   const PerturbationResult decided = Perturb(base, dynamic, with_lp);
-  ASSERT_EQ(solved.status, "dynamic") << solved.solve.message;
-  EXPECT_EQ(decided.status, "dynamic");
+  ASSERT_EQ(solved.status, PerturbationStatus::kDynamic) << solved.solve.message;
+  EXPECT_EQ(decided.status, PerturbationStatus::kDynamic);
   EXPECT_EQ(decided.solve.backend, "inertia LP");
   EXPECT_TRUE(std::isnan(decided.f_crit));
   EXPECT_GT(decided.inertia_ratio, 10.0 * o.max_inertia_ratio);
@@ -577,7 +578,7 @@ TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
   const PerturbationBase lp_base = PreparePerturbations(scene, with_lp);
   ASSERT_NE(lp_base.opening_inertia_lp, nullptr);
   const PerturbationResult continued = Perturb(lp_base, dynamic, with_lp);
-  EXPECT_EQ(continued.status, "dynamic");
+  EXPECT_EQ(continued.status, PerturbationStatus::kDynamic);
   EXPECT_NEAR(continued.inertia_ratio, decided.inertia_ratio, 1e-8);
   EXPECT_LT(continued.solve.iterations, decided.solve.iterations) << "simplex pivots";
   // At fixed volume the frozen cell leaves the step unloaded: zero forces balance it, the
@@ -593,8 +594,8 @@ TEST(Perturbation, TheInertiaLpDecidesADynamicOpeningBelowTheSolvedInertia) {
   ASSERT_EQ(quasi_static.i, 49);
   const PerturbationResult plain = Perturb(base, quasi_static, o);
   const PerturbationResult checked = Perturb(base, quasi_static, with_lp);
-  ASSERT_EQ(plain.status, "ok") << plain.solve.message;
-  EXPECT_EQ(checked.status, "ok");
+  ASSERT_EQ(plain.status, PerturbationStatus::kOk) << plain.solve.message;
+  EXPECT_EQ(checked.status, PerturbationStatus::kOk);
   EXPECT_EQ(checked.solve.backend, "lemke");
   EXPECT_EQ(checked.f_crit, plain.f_crit) << "the LP only decides; the solve is the same";
 }
@@ -611,8 +612,8 @@ TEST(Perturbation, FrictionalQuasiStaticOpeningIsLinearInTheGap) {
   ten.gap = 10.0 * o.gap;
   const PerturbationResult r = Perturb(base, target, o);
   const PerturbationResult r10 = Perturb(base, target, ten);
-  ASSERT_EQ(r.status, "ok") << r.solve.message;
-  ASSERT_EQ(r10.status, "ok") << r10.solve.message;
+  ASSERT_EQ(r.status, PerturbationStatus::kOk) << r.solve.message;
+  ASSERT_EQ(r10.status, PerturbationStatus::kOk) << r10.solve.message;
   EXPECT_NEAR(r10.f_crit, r.f_crit, 1e-6 * r.f_crit);
   double largest = 0.0, misfit = 0.0;
   for (std::size_t i = 0; i < r.displacement.size(); ++i) {
@@ -642,7 +643,7 @@ TEST(Perturbation, CheckLinearityRejectsAResponseThatDoesNotScaleWithTheGap) {
   EXPECT_TRUE(r.resolved && r.quasi_static) << r.status;
   EXPECT_FALSE(r.linear);
   EXPECT_FALSE(r.ok());
-  EXPECT_EQ(r.status, "nonlinear");
+  EXPECT_EQ(r.status, PerturbationStatus::kNonlinear);
   EXPECT_GT(r.linearity_misfit, 1.0);
   EXPECT_GT(std::abs(r.fcrit_10xi - r.f_crit), 1e-3 * base.mean_contact_force);
 }
@@ -664,7 +665,7 @@ TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
   ASSERT_EQ(target.i, 3);
   ASSERT_TRUE(o.check_linearity && o.check_by_continuation);  // the defaults
   const PerturbationResult r = Perturb(base, target, o);
-  ASSERT_EQ(r.status, "ok") << r.solve.message;
+  ASSERT_EQ(r.status, PerturbationStatus::kOk) << r.solve.message;
   EXPECT_LT(r.linearity_misfit, 1e-5);
   EXPECT_NEAR(r.fcrit_10xi, r.f_crit, 1e-4 * r.f_crit);
   EXPECT_NE(r.solve.message.find("10 xi check: Lemke: the given basis: residual"),
@@ -674,7 +675,7 @@ TEST(Perturbation, TheSmallGapCheckContinuesTheAnswerOnItsBasis) {
   cold.check_by_continuation = false;
   const PerturbationResult c = Perturb(base, target, cold);
   EXPECT_EQ(c.f_crit, r.f_crit);  // the same answer at ξ
-  EXPECT_EQ(c.status, "nonlinear") << c.linearity_misfit;
+  EXPECT_EQ(c.status, PerturbationStatus::kNonlinear) << c.linearity_misfit;
   EXPECT_GT(c.linearity_misfit, 0.1);
 }
 
@@ -718,8 +719,8 @@ TEST(Perturbation, TheNearestMemberOfTheMotionPatternKeepsTheCriticalForce) {
   nearest.nearest_member = true;
   const PerturbationResult a = Perturb(base, target, path);
   const PerturbationResult b = Perturb(base, target, nearest);
-  ASSERT_EQ(a.status, "ok") << a.solve.message;
-  ASSERT_EQ(b.status, "ok") << b.solve.message;
+  ASSERT_EQ(a.status, PerturbationStatus::kOk) << a.solve.message;
+  ASSERT_EQ(b.status, PerturbationStatus::kOk) << b.solve.message;
   EXPECT_EQ(b.solve.backend, "lemke+pattern");
   EXPECT_NEAR(b.f_crit, a.f_crit, 1e-9 * a.f_crit);
   EXPECT_NEAR(b.fcrit_10xi, b.f_crit, 1e-6 * b.f_crit);
@@ -832,7 +833,7 @@ TEST(Perturbation, LemkeInRateUnitsResolvesTallPileShiftsThePlainPathCannot) {
     ++checked;
     const PerturbationResult r = Perturb(base, t, o);
     const std::string& m = r.solve.message;
-    ASSERT_EQ(r.status, "ok") << t.i << ": " << m;
+    ASSERT_EQ(r.status, PerturbationStatus::kOk) << t.i << ": " << m;
     const std::string plain = "Lemke: cold, ties 1e-16: ";
     ASSERT_EQ(m.rfind(plain, 0), 0u) << m;
     EXPECT_NE(m.compare(plain.size(), 6, "solved"), 0) << m;
@@ -862,7 +863,7 @@ TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
 
   const PerturbationResult path = Perturb(base, target, o);
   ASSERT_TRUE(path.resolved) << path.solve.message;
-  EXPECT_EQ(path.status, "dynamic");
+  EXPECT_EQ(path.status, PerturbationStatus::kDynamic);
   const double g_dt2 = 1.0 * o.dt * o.dt;
   EXPECT_NEAR(path.displacement[206].x(), 0.0, 1e-9 * g_dt2);
   EXPECT_NEAR(path.displacement[206].y(), -g_dt2, 1e-9 * g_dt2);
@@ -870,7 +871,7 @@ TEST(Perturbation, PreferQuasiStaticPassesTheMemberInWhichAHangingGrainFalls) {
   o.prefer_quasi_static = true;
   const PerturbationResult r = Perturb(base, target, o);
   const std::string& m = r.solve.message;
-  ASSERT_EQ(r.status, "ok") << m;
+  ASSERT_EQ(r.status, PerturbationStatus::kOk) << m;
   EXPECT_NE(m.find("above the bound"), std::string::npos) << m;
   EXPECT_LT(r.solve.residual, 1e-13);
   EXPECT_LT(r.displacement[206].norm(), 1e3 * o.gap);
@@ -893,7 +894,7 @@ TEST(Perturbation, WarmStartInTheRateFormFindsAQuasiStaticShiftNoColdRunFinds) {
   ASSERT_EQ(target.i, 234);
   const PerturbationResult r = Perturb(base, target, o);
   const std::string& m = r.solve.message;
-  ASSERT_EQ(r.status, "ok") << m;
+  ASSERT_EQ(r.status, PerturbationStatus::kOk) << m;
   EXPECT_EQ(m.rfind("Lemke: rate form, warm, ", 0), 0u) << m;
   const std::string warm_path = "rate form, warm, ties 1e-14";
   const std::size_t warm = m.find(warm_path + ": solved");

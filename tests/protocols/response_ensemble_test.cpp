@@ -31,7 +31,7 @@ ResponseLayout Layout() {
 // sign · r^-0.5 along y: the y parts cancel in the average over records of both signs.
 ReducedResponse Record(const ResponseLayout& layout, double sign) {
   ReducedResponse r;
-  r.status = "ok";
+  r.status = PerturbationStatus::kOk;
   const int boxes = layout.field.nx * layout.field.ny;
   r.field.assign(2 * boxes, 0.0);
   r.field_count.assign(boxes, 1);

@@ -200,7 +200,7 @@ TEST(LemkeBackend, FrictionalOpeningIsResolvedAndInsideTheAdmissibleInterval) {
   const PerturbationResult r = Perturb(base, target, o);
   ASSERT_TRUE(r.solve.converged()) << r.solve.message;
   EXPECT_LT(r.solve.residual, 1e-13);
-  ASSERT_EQ(r.status, "ok");
+  ASSERT_EQ(r.status, PerturbationStatus::kOk);
 
   const EquilibriumSystem s = BuildEquilibriumSystem(scene);
   int k = -1;

@@ -26,6 +26,7 @@
 
 #include "unjam/contacts/contact.hpp"
 #include "unjam/problem/contact_problem.hpp"
+#include "unjam/protocols/perturbation_status.hpp"
 #include "unjam/protocols/static_solve.hpp"
 #include "unjam/scene/scene.hpp"
 #include "unjam/solvers/contact_solver.hpp"
@@ -180,7 +181,7 @@ struct PerturbationResult {
   // problem/kinematic_admissibility.hpp). A `dynamic` decided before solving
   // (dynamic_precheck) has F_crit NaN, no motion, and its inertia_ratio is the LP's lower
   // bound.
-  std::string status;
+  PerturbationStatus status = PerturbationStatus::kNotConverged;
   double seconds = 0.0;
 };
 

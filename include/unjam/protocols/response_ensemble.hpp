@@ -59,11 +59,11 @@ struct ReducedResponse {
   double fcrit_10xi = std::numeric_limits<double>::quiet_NaN();  // unless checked (check_linearity)
   double linearity_misfit = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;
-  std::string status;    // "ok", "not-converged", "dynamic", "nonlinear", "blocked"
+  PerturbationStatus status = PerturbationStatus::kNotConverged;
   std::string message;   // the solver's account of its run (why it stopped)
   std::string backend;   // the backend whose answer this is (the fallback's, after one)
   bool rattler = false;  // upward shift that needed no force
-  bool Used() const { return status == "ok" && !rattler; }
+  bool Used() const { return status == PerturbationStatus::kOk && !rattler; }
   std::vector<double> displacement_profile;  // mean |d|/ξ per radial bin (NaN: empty bin)
   std::vector<double> force_profile;         // mean |Δf_n| per radial bin of contact points
   std::vector<double> field;                 // Σ d/ξ per box, (x, y) interleaved
