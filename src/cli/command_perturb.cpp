@@ -552,11 +552,9 @@ int RunPerturb(const PerturbFlags& f) {
   }
   PerturbationOptions options = OptionsFrom(f);
   const Scene scene = ReadPacking(f.file);
-  const std::string fallback = PerturbationFallback(options, scene);  // before "auto" is resolved
-  options.fallback = fallback.empty() ? "none" : fallback;
   const bool lemke_left_for_size =
       AutoLeavesLemkeForSize(options, scene);  // before "auto" is resolved
-  options.backend = PerturbationBackend(options, scene);
+  ResolveBackends(options, scene);
   if (scene.forces.empty()) {
     throw InputError(f.file, 0,
                      "stores no static forces: run `unjam solve " + f.file + " -o FILE` first");

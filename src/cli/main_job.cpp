@@ -143,9 +143,7 @@ int RunMainJob(const MainJobFlags& flags) {
 
   t = Clock::now();
   PerturbationOptions options;
-  const std::string fallback = PerturbationFallback(options, scene);  // before "auto" is resolved
-  options.fallback = fallback.empty() ? "none" : fallback;
-  options.backend = PerturbationBackend(options, scene);
+  ResolveBackends(options, scene);
   const PerturbationBase base = PreparePerturbations(scene, options);
   const std::vector<PerturbationTarget> targets =
       SampleTargets(ContactTargets(base), flags.sample, flags.seed);

@@ -63,6 +63,12 @@ std::string PerturbationFallback(const PerturbationOptions& options, const Scene
   return FixedVolumeCell(options, scene) ? "" : "lemke";
 }
 
+void ResolveBackends(PerturbationOptions& options, const Scene& scene) {
+  const std::string fallback = PerturbationFallback(options, scene);
+  options.fallback = fallback.empty() ? "none" : fallback;
+  options.backend = PerturbationBackend(options, scene);
+}
+
 namespace perturbation_internal {
 
 namespace {

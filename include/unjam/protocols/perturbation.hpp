@@ -119,6 +119,9 @@ bool AutoLeavesLemkeForSize(const PerturbationOptions& options, const Scene& sce
 // newton on frictionless steps at fixed pressure, none otherwise; a backend the user names
 // is not second-guessed).
 std::string PerturbationFallback(const PerturbationOptions& options, const Scene& scene);
+// options.backend and options.fallback with "auto" resolved for this scene, as every
+// command runs them (the fallback first: its "auto" depends on the backend's).
+void ResolveBackends(PerturbationOptions& options, const Scene& scene);
 
 // One perturbation's target: a contact (by key) or a particle and a shift direction.
 struct PerturbationTarget {
