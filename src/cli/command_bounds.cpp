@@ -263,7 +263,7 @@ int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::si
   const long long total = BoundsTotal(s, selected);
   const long long obtained = records.Obtained();
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  if (f.json) {
+  if (f.summary && f.json) {
     const nlohmann::json out = {{"file", f.file},
                                 {"contacts", selected},
                                 {"ensemble_contacts", s.contacts.size()},
@@ -275,7 +275,7 @@ int StoppedAtTimeLimit(const BoundsFlags& f, const EquilibriumSystem& s, std::si
                                 {"lp_seconds", lp_seconds},
                                 {"seconds", seconds}};
     std::printf("%s\n", out.dump().c_str());
-  } else {
+  } else if (f.summary) {
     std::printf("contacts           %zu of %zu in the ensemble\n", selected, s.contacts.size());
     std::printf("incomplete         %lld of %lld bounds obtained\n", obtained, total);
     std::printf("seconds            %.3f (LPs %.3f, %lld simplex iterations)\n", seconds,
@@ -493,8 +493,8 @@ int RunBounds(const BoundsFlags& f) {
     out["outside_interval"] = cmp->WithInside(0);
   }
   if (!f.output.empty()) out["output"] = f.output;
-  if (f.json) std::printf("%s\n", out.dump().c_str());
-  else
+  if (f.summary && f.json) std::printf("%s\n", out.dump().c_str());
+  else if (f.summary)
     PrintBoundsSummary(out, f.gap_tolerance,
                        lp == LpBackend::kIpopt ? "ipopt"
                        : f.cold                ? "cold"

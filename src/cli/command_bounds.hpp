@@ -28,7 +28,8 @@ struct BoundsFlags {
   std::string output;
   std::optional<double> time_limit;  // seconds: no LP starts after it (contacts only)
   bool json = false;
-  bool quiet = false;  // no progress on stderr
+  bool summary = true;  // false: nothing on stdout (a study's steps: the study prints one report)
+  bool quiet = false;   // no progress on stderr
 
   void Register(CLI::App& app);
   // The ensemble's contacts: gaps up to --gap-tol (checked: std::invalid_argument).

@@ -254,8 +254,8 @@ int RunShiftBounds(const BoundsFlags& f) {
     out["outside_interval"] = cmp->WithInside(0);
   }
   if (!f.output.empty()) out["output"] = f.output;
-  if (f.json) std::printf("%s\n", out.dump().c_str());
-  else PrintShiftBounds(selection, shifts.size(), report, m, cmp, seconds, f.cold);
+  if (f.summary && f.json) std::printf("%s\n", out.dump().c_str());
+  else if (f.summary) PrintShiftBounds(selection, shifts.size(), report, m, cmp, seconds, f.cold);
   return report.feasible ? kOk : kNotConverged;
 }
 

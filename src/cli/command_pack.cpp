@@ -392,7 +392,7 @@ int RunPack(const PackFlags& f) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json out = Summary(f, result, r, seconds);
   if (!r.jammed) out["output"] = nullptr;
-  std::printf("%s\n", f.json ? out.dump().c_str() : out.dump(2).c_str());
+  if (f.summary) std::printf("%s\n", f.json ? out.dump().c_str() : out.dump(2).c_str());
   if (!r.jammed) {
     std::fprintf(
         stderr,

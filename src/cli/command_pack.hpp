@@ -36,6 +36,7 @@ struct PackFlags {
   std::string checkpoint;       // default: OUTPUT.checkpoint
   int checkpoint_every = 1000;  // steps; 0: no checkpoints
   bool json = false;
+  bool summary = true;  // false: nothing on stdout (a study's steps: the study prints one report)
   bool quiet = false;
 
   void Register(CLI::App& app);

@@ -631,8 +631,8 @@ int RunPerturb(const PerturbFlags& f) {
   out["targets"] = total;
   out["complete"] = static_cast<int>(records.size()) == total;
   if (!f.output_dir.empty()) WriteEnsembleFiles(dir, records, summary, out);
-  if (f.json) std::printf("%s\n", out.dump().c_str());
-  else PrintSummary(out);
+  if (f.summary && f.json) std::printf("%s\n", out.dump().c_str());
+  else if (f.summary) PrintSummary(out);
   if (!out["complete"].get<bool>() && !f.quiet) {
     std::fprintf(stderr,
                  "perturb: stopped at the time limit with %zu of %d done; the same command "

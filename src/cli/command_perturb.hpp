@@ -35,6 +35,7 @@ struct PerturbFlags {
   bool dynamic_lp = false;           // --dynamic-lp: PerturbationOptions::dynamic_precheck
   std::string fallback = "auto";     // --fallback: the second backend of an unresolved step
   bool json = false;
+  bool summary = true;  // false: nothing on stdout (a study's steps: the study prints one report)
   bool quiet = false;
   CLI::App* app = nullptr;  // to ask whether --tol was given
 

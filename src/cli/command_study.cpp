@@ -1,7 +1,5 @@
 #include "command_study.hpp"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -30,32 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-// The commands a study runs print their own summaries on stdout; the study prints one
-// report instead, so their stdout goes nowhere while they run (stderr stays: progress and
-// errors).
-class QuietStdout {
- public:
-  QuietStdout() {
-    std::fflush(stdout);
-    saved_ = dup(STDOUT_FILENO);
-    std::FILE* null = std::fopen("/dev/null", "w");
-    if (saved_ >= 0 && null != nullptr) dup2(fileno(null), STDOUT_FILENO);
-    if (null != nullptr) std::fclose(null);
-  }
-  ~QuietStdout() {
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      dup2(saved_, STDOUT_FILENO);
-      close(saved_);
-    }
-  }
-  QuietStdout(const QuietStdout&) = delete;
-  QuietStdout& operator=(const QuietStdout&) = delete;
-
- private:
-  int saved_ = -1;
-};
-
 // One resumable piece of work: done() says whether an earlier run finished it.
 struct Step {
   std::string kind;  // pack, perturb, bounds: steps of one kind take alike times
@@ -74,7 +46,7 @@ PackFlags PackFlagsOf(const StudyPacking& p, bool quiet) {
   else f.pressure = p.key.pressure;
   f.output = p.file.string();
   f.max_steps = p.max_steps;
-  f.json = true;
+  f.summary = false;
   f.quiet = quiet;
   return f;
 }
@@ -120,7 +92,7 @@ PerturbFlags PerturbFlagsOf(const StudyPacking& p, const StudyRunPlan& r, int th
   f.solver.backend_may_be_auto = true;
   f.threads = threads;
   f.output_dir = r.dir.string();
-  f.json = true;
+  f.summary = false;
   f.quiet = quiet;
   return f;
 }
@@ -153,7 +125,7 @@ BoundsFlags BoundsFlagsOf(const StudyPacking& p, const StudyRunPlan& r, int thre
   else f.contacts = OpenedContacts(p, r);
   f.threads = threads;
   f.output = r.bounds_csv.string();
-  f.json = true;
+  f.summary = false;
   f.quiet = quiet;
   return f;
 }
@@ -164,26 +136,21 @@ std::vector<Step> StepsOf(const StudyPlan& plan, bool quiet) {
     steps.push_back({"pack", "pack " + p.name, [&p] { return PackingDone(p); },
                      [&p, quiet] {
                        fs::create_directories(p.file.parent_path());
-                       const QuietStdout silence;
                        return RunPack(PackFlagsOf(p, quiet));
                      }});
   }
   std::set<fs::path> bounded;
   for (const StudyRunPlan& r : plan.runs) {
     const StudyPacking& p = plan.packings[r.packing];
-    steps.push_back({"perturb", "perturb " + p.name + " " + r.kind,
-                     [&r] { return PerturbationsDone(r); },
-                     [&p, &r, &plan, quiet] {
-                       const QuietStdout silence;
-                       return RunPerturb(PerturbFlagsOf(p, r, plan.threads, quiet));
-                     }});
+    steps.push_back(
+        {"perturb", "perturb " + p.name + " " + r.kind, [&r] { return PerturbationsDone(r); },
+         [&p, &r, &plan, quiet] { return RunPerturb(PerturbFlagsOf(p, r, plan.threads, quiet)); }});
     // The openings of every mode share one bounds CSV: one step for it, with the first mode.
     if (!r.bounds || !bounded.insert(r.bounds_csv).second) continue;
     steps.push_back({"bounds", "bounds " + r.bounds_csv.filename().string() + " " + p.name,
                      [&r] { return fs::exists(r.bounds_csv); },
                      [&p, &r, &plan, quiet] {
                        fs::create_directories(r.bounds_csv.parent_path());
-                       const QuietStdout silence;
                        return RunBounds(BoundsFlagsOf(p, r, plan.threads, quiet));
                      }});
   }

@@ -47,6 +47,8 @@ for r in pressure + gravity:
 assert float(gravity[0]["height"]) > 0, gravity
 PY
 grep -q "^| 30 | 0 | fixed-pressure | 1 | 4 | 4 |" "$out/report.md" || fail "report.md: no frictionless row"
+# The steps print no summary of their own: the study's stdout is its own lines.
+grep -q '^{\|^perturbations \|^ensemble ' "$work/first.txt" && fail "a step's summary on stdout: $(head -c 300 "$work/first.txt")"
 if grep -q "figures skipped" "$work/first.txt"; then
   echo "figures skipped by the build"
 else
