@@ -86,7 +86,7 @@ TEST(ResponseEnsemble, StaticStressInAFrameAddsUpToTheVirialPressure) {
   layout.stress.side = Vec2(side / 17, side / 17);
   layout.stress.origin = Vec2(-0.5 * side, -0.5 * side);
   layout.stress.periodic_x = layout.stress.periodic_y = true;
-  for (const Vec2 axis : {Vec2(1.0, 0.0), Vec2(0.0, 1.0)}) {
+  for (const Vec2& axis : {Vec2(1.0, 0.0), Vec2(0.0, 1.0)}) {
     const std::vector<Eigen::Matrix2d> s =
         StaticStressInFrame(base, scene.particles[7].position, axis, layout);
     Eigen::Matrix2d mean = Eigen::Matrix2d::Zero();
