@@ -132,5 +132,51 @@ TEST(RatePerturbation, SmallPileShiftsAreDecided) {
   EXPECT_GT(by_rate, 0);
 }
 
+// At μ = 0.1 the loading paths are long (about 1 000 events, dozens of turns): they still
+// collapse, and the step on the collapse's pattern is solved exactly. Lemke's solve of the
+// whole step finds a quasi-static answer too; the step has a family of solutions (forces
+// that differ by self-stresses), so both must be exact, not equal.
+TEST(RatePerturbation, LongPathsAtLowFrictionEndInAnExactAnswer) {
+  const Scene scene = Bundled("pressure-n500-mu0.1");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const EquilibriumSystem system = BuildEquilibriumSystem(scene);
+  PerturbationOptions lemke = o;
+  lemke.backend = "lemke";
+  lemke.check_linearity = false;
+  const std::vector<PerturbationTarget> sample = SampleTargets(ContactTargets(base), 10, 1);
+  for (int a = 0; a < 2; ++a) {
+    const PerturbationTarget& t = sample[static_cast<std::size_t>(a)];
+    const PerturbationResult r = Perturb(base, t, o);
+    EXPECT_EQ(r.solve.backend, "rate") << r.solve.message;
+    EXPECT_EQ(r.status, PerturbationStatus::kOk) << r.solve.message;
+    EXPECT_GT(r.solve.iterations, 400) << "path events";
+    EXPECT_LE(r.solve.residual, 1e-14) << r.solve.message;
+    ExpectInsideTheContactsLpInterval(system, r);
+    if (a > 0) continue;  // one Lemke solve (10-20 s) is enough
+    const PerturbationResult exact = Perturb(base, t, lemke);
+    EXPECT_EQ(exact.status, PerturbationStatus::kOk) << exact.solve.message;
+    EXPECT_LE(exact.solve.residual, 1e-14) << exact.solve.message;
+    EXPECT_NEAR(r.f_crit, exact.f_crit, 1e-3 * exact.f_crit);
+  }
+}
+
+// A top shift of the 1600-disk pile: the path collapses after 205 events and the step on
+// its pattern is exact at once (residual 2e-15). Corrections that changed every contact
+// breaking its law by rounding left that answer and ended at 2e-10, then newton stalled
+// (not-converged after 45 s). The answer: nonlinear, since at 10 ξ the response closes an
+// open contact.
+TEST(RatePerturbation, PileShiftIsSolvedExactlyOnThePathsPattern) {
+  const Scene scene = Bundled("gravity-n1600-mu0.1");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const PerturbationTarget t = ParticleShift(base, 1561, Vec2(0.0, -1.0));
+  const PerturbationResult r = Perturb(base, t, o);
+  EXPECT_EQ(r.solve.backend, "rate") << r.solve.message;
+  EXPECT_EQ(r.status, PerturbationStatus::kNonlinear) << r.solve.message;
+  EXPECT_LE(r.solve.residual, 1e-14) << r.solve.message;
+  EXPECT_NE(r.solve.message.find("closes the open contact"), std::string::npos) << r.solve.message;
+}
+
 }  // namespace
 }  // namespace unjam

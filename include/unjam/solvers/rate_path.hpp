@@ -87,7 +87,7 @@ struct RatePathResult {
 };
 
 struct RatePathOptions {
-  int max_events = 400;
+  int max_events = 5000;
 };
 
 RatePathResult FollowRatePath(const RateProblem& problem, const RatePathOptions& options = {});
