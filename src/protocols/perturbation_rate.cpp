@@ -149,19 +149,17 @@ RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& t,
   return out;
 }
 
-namespace {}  // namespace
-
 SolveResult StepOnPattern(const RateBase& rb, const RateTarget& rt, const RatePathResult& path,
-                          const StaticProblem& perturbed) {
+                          const StaticProblem& perturbed, bool open_may_close) {
   const ContactProblem& p = perturbed.assembled.problem;
   const int stride = p.UnknownsPerContact();
   const std::vector<int> closed = ClosedIndexOf(rb, perturbed);
   const Eigen::VectorXd forces = rb.impulses + rt.problem.basis * path.alpha;
   // The path's forces and states on the perturbed step's contacts; the contacts the static
-  // state leaves open stay open, with no force.
+  // state leaves open start open, with no force, and stay so unless `open_may_close`.
   Eigen::VectorXd impulses = Eigen::VectorXd::Zero(p.NumUnknowns());
   std::vector<ContactState> states(static_cast<std::size_t>(p.NumContacts()), ContactState::kOpen);
-  std::vector<char> frozen(static_cast<std::size_t>(p.NumContacts()), 1);
+  std::vector<char> frozen(static_cast<std::size_t>(p.NumContacts()), open_may_close ? 0 : 1);
   for (int k = 0; k < p.NumContacts(); ++k) {
     const int c = closed[static_cast<std::size_t>(k)];
     if (c < 0) continue;
@@ -172,26 +170,6 @@ SolveResult StepOnPattern(const RateBase& rb, const RateTarget& rt, const RatePa
   SolveResult out = SolveOnPattern(p, impulses, std::move(states), frozen);
   out.report.backend = "rate";
   return out;
-}
-
-int ContactClosedAt(const StaticProblem& perturbed, const Eigen::VectorXd& impulses,
-                    double factor) {
-  const ContactProblem& p = perturbed.assembled.problem;
-  const Eigen::VectorXd u = PosedContactVelocity(p, impulses);
-  const int stride = p.UnknownsPerContact();
-  for (int k = 0; k < p.NumContacts(); ++k) {
-    const ProblemContact& c = p.contacts[static_cast<std::size_t>(k)];
-    const Contact& geometry = perturbed.contacts[static_cast<std::size_t>(
-        perturbed.assembled.source_contact[static_cast<std::size_t>(k)])];
-    if (c.kind != ConstraintKind::kUnilateral || !(geometry.gap > 0.0) ||
-        impulses[k * stride] != 0.0)
-      continue;
-    // ũ_n = u_n − target, target = −gap/Δt: at `factor` times the motion the gap left is
-    // gap + factor Δt u_n.
-    const double un = u[k * stride] + c.target_velocity;
-    if (factor * un - c.target_velocity < -1e-9 * std::abs(c.target_velocity)) return k;
-  }
-  return -1;
 }
 
 }  // namespace unjam

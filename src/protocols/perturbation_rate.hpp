@@ -43,14 +43,10 @@ RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& target,
 
 // The solution of the perturbed step (`perturbed`, as PosePerturbationProblem poses it) on
 // the path's contact states: the path's forces plus the impulses that accelerate the grains
-// by ξ, and the motion, from one sparse linear system (UMFPACK). Its report's residual is
-// ComputeResidual's.
+// by ξ, and the motion, from one sparse linear system (UMFPACK), with the states that
+// solution contradicts corrected (SolveOnPattern). The contacts open in the static state
+// stay open unless `open_may_close`. Its report's residual is ComputeResidual's.
 SolveResult StepOnPattern(const RateBase& rb, const RateTarget& rt, const RatePathResult& path,
-                          const StaticProblem& perturbed);
-
-// The first contact that the answer, continued to `factor` times its size, would close
-// although it is open (gap > 0) at the start: the response is then not linear in ξ.
-// Returns −1 if none, else the index into perturbed.contacts.
-int ContactClosedAt(const StaticProblem& perturbed, const Eigen::VectorXd& impulses, double factor);
+                          const StaticProblem& perturbed, bool open_may_close = false);
 
 }  // namespace unjam
