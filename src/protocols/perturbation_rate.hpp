@@ -47,6 +47,6 @@ RateTarget PoseRateTarget(const RateBase& rb, const PerturbationTarget& target,
 // solution contradicts corrected (SolveOnPattern). The contacts open in the static state
 // stay open unless `open_may_close`. Its report's residual is ComputeResidual's.
 SolveResult StepOnPattern(const RateBase& rb, const RateTarget& rt, const RatePathResult& path,
-                          const StaticProblem& perturbed, bool open_may_close = false);
+                          const StaticProblem& perturbed, bool open_may_close);
 
 }  // namespace unjam

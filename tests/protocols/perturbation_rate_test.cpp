@@ -43,6 +43,13 @@ void ExpectInsideTheContactsLpInterval(const EquilibriumSystem& system,
       << r.target.i << "-" << r.target.j;
 }
 
+// Lemke's exact solve of the whole step, the cross-check of the rate solve's answers.
+PerturbationOptions WholeStepLemke(PerturbationOptions o) {
+  o.backend = "lemke";
+  o.check_linearity = false;
+  return o;
+}
+
 // On the default packing (μ = 0.5) every sampled opening ends with a definite status. Where
 // the static LP finds no network that holds the packing with the contact's friction
 // released, the opening is dynamic without a solve, and Lemke's exact solve of the step
@@ -54,9 +61,7 @@ TEST(RatePerturbation, DefaultPackingOpeningsAreDecidedAndAgreeWithLemke) {
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const EquilibriumSystem system = BuildEquilibriumSystem(scene);
-  PerturbationOptions lemke = o;
-  lemke.backend = "lemke";
-  lemke.check_linearity = false;
+  const PerturbationOptions lemke = WholeStepLemke(o);
   int by_lp = 0, by_rate = 0;
   for (const PerturbationTarget& t : SampleTargets(ContactTargets(base), 10, 4)) {
     const PerturbationResult r = Perturb(base, t, o);
@@ -141,9 +146,7 @@ TEST(RatePerturbation, LongPathsAtLowFrictionEndInAnExactAnswer) {
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
   const EquilibriumSystem system = BuildEquilibriumSystem(scene);
-  PerturbationOptions lemke = o;
-  lemke.backend = "lemke";
-  lemke.check_linearity = false;
+  const PerturbationOptions lemke = WholeStepLemke(o);
   const std::vector<PerturbationTarget> sample = SampleTargets(ContactTargets(base), 10, 1);
   for (int a = 0; a < 2; ++a) {
     const PerturbationTarget& t = sample[static_cast<std::size_t>(a)];

@@ -29,13 +29,15 @@ enum class ContactState : unsigned char { kStick, kSlidePositive, kSlideNegative
 SolveResult SolveOnStates(const ContactProblem& problem, const Eigen::VectorXd& impulses,
                           const std::vector<ContactState>& states);
 
-// Gives each contact whose state the answer `solved` contradicts (a sticking contact
-// pushed out of its cone, an open one closing, a sliding one turning back) the state its
+// Of the contacts whose state the answer `solved` contradicts (a sticking contact pushed
+// out of its cone, an open one closing, a sliding one turning back), gives those that break
+// their law most (natural-map error at least half the largest among them) the state their
 // motion asks for; contacts with frozen[k] set keep theirs. Returns whether any changed.
 bool CorrectStates(const ContactProblem& problem, const SolveResult& solved,
                    const std::vector<char>& frozen, std::vector<ContactState>& states);
 
-// SolveOnStates, then CorrectStates and again, up to `rounds` times.
+// SolveOnStates, then CorrectStates and again, up to `rounds` times or until an answer is
+// at round-off (kRoundOffResidual); returns the answer of lowest residual.
 SolveResult SolveOnPattern(const ContactProblem& problem, const Eigen::VectorXd& impulses,
                            std::vector<ContactState> states, const std::vector<char>& frozen,
                            int rounds = 20);
