@@ -8,6 +8,8 @@
 
 #include <Eigen/Dense>
 
+#include "unjam/solvers/givens_qr.hpp"
+
 namespace unjam {
 
 const char* ToString(RatePathEnd end) {
@@ -34,6 +36,18 @@ constexpr double kRateTolerance = 1e-13;
 constexpr double kTie = 1e-11;
 // |t| below this at order zero: the path has not left its start (t of a collapse is O(1)+).
 constexpr double kZeroLoad = 1e-9;
+// A piece whose forces move less than this per unit t is a mechanism at constant forces (a
+// collapse piece): measured, such pieces move them by 1e-12 per unit t or less (round-off),
+// every other piece by 1e-5 or more. Its forces are held exactly: paths that go on past
+// one (a slip of the mechanism that runs backwards stops) reach t ~ 1e15, where round-off
+// in the forces would be of their own size.
+constexpr double kCollapseRate = 1e-9;
+// The piece's kernel comes from a QR factorisation updated event by event (O(m²) instead of
+// O(m³)), factorised anew after this many updates; where its diagonal is this close to
+// rank loss, or its kernel misses, the pivoted factorisation decides.
+constexpr int kRefactorAfter = 200;
+constexpr double kDoubtfulDiagonal = 1e-8;
+constexpr double kKernelResidual = 1e-11;
 
 // A number of the perturbed problem, v₀ + ε v₁ for an infinitesimal ε > 0: every bound of
 // the contact law is moved outward by ε times a weight (distinct for every bound), which
@@ -105,8 +119,7 @@ class PathFollower {
     RatePathResult out;
     if (!release_possible_)
       return Finish(RatePathEnd::kReleaseFails, "no self-stress carries the released force", out);
-    base0_ = Eigen::VectorXd::Zero(dims_);
-    base1_ = Eigen::VectorXd::Zero(dims_);
+    SetForces(Eigen::VectorXd::Zero(dims_), Eigen::VectorXd::Zero(dims_));
     if (release_.norm() > 0.0) {
       // Phase 1, with the associated (dilatant) law: its holonomic path ends on the
       // admissible network nearest the elastic release (a projection onto a convex set),
@@ -116,10 +129,9 @@ class PathFollower {
       const RatePathEnd end = Follow(1.0, out);
       if (end != RatePathEnd::kCollapse)
         return Finish(RatePathEnd::kReleaseFails, std::string("releasing: ") + ToString(end), out);
-      const Eigen::VectorXd alpha0 = Alpha0(), alpha1 = Alpha1();
+      const Eigen::VectorXd alpha0 = alpha0_, alpha1 = alpha1_;
       Reset();
-      base0_ = alpha0;
-      base1_ = alpha1;
+      SetForces(alpha0, alpha1);
     }
     // Phase 2: the perturbation, with Coulomb's law, from the released network. The contacts
     // phase 1 left on a bound of its perturbed problem sit on it exactly; phase 2 moves every
@@ -145,6 +157,7 @@ class PathFollower {
       std::fill(v->begin(), v->end(), Lex{});
     t_ = Lex{};
     unknowns_.clear();
+    qr_.Reset(1);
     pg_.resize(dims_, 0);
     epg_.resize(0, 0);
     ed_.resize(0);
@@ -299,6 +312,9 @@ class PathFollower {
     ed_.conservativeResize(m - 1);
     unknowns_.erase(unknowns_.begin() + k);
     slip_sign_.erase(slip_sign_.begin() + k);
+    qr_.RemoveColumn(k);
+    qr_.RemoveRow(k + 1);
+    ++qr_updates_;
   }
 
   void Append(const Unknown& u) {
@@ -316,26 +332,49 @@ class PathFollower {
     ed_[m] = e.dot(direction_);
     unknowns_.push_back(u);
     slip_sign_.push_back(u.kind == UnknownKind::kSlip ? SlipSign(u.contact) : 0.0);
+    // Kᵀ gains the new unknown's row (its column of K on the old equations) and the new
+    // equation's column (over t, then the unknowns).
+    qr_.AppendRow(epg_.col(m).head(m));
+    Eigen::VectorXd equation(m + 2);
+    equation << ed_[m], epg_.row(m).transpose();
+    qr_.AppendColumn(equation);
+    ++qr_updates_;
   }
 
-  Eigen::VectorXd UnknownValues(bool order1) {
-    Eigen::VectorXd u(static_cast<Eigen::Index>(unknowns_.size()));
-    for (std::size_t k = 0; k < unknowns_.size(); ++k) {
-      const Lex& v = Value(unknowns_[k]);
-      u[static_cast<Eigen::Index>(k)] = order1 ? v.v1 : v.v0;
-    }
-    return u;
+  // α and the forces it adds, S α, both orders; from here on they move by whole pieces.
+  void SetForces(const Eigen::VectorXd& alpha0, const Eigen::VectorXd& alpha1) {
+    alpha0_ = alpha0;
+    alpha1_ = alpha1;
+    f0_ = p_.basis * alpha0_;
+    f1_ = p_.basis * alpha1_;
   }
-  Eigen::VectorXd Alpha0() { return base0_ + t_.v0 * direction_ + pg_ * UnknownValues(false); }
-  Eigen::VectorXd Alpha1() { return base1_ + t_.v1 * direction_ + pg_ * UnknownValues(true); }
 
-  // One piece: the unit direction (du, dt) in the kernel of [E P G | E d].
-  bool Direction(Eigen::VectorXd& dir) const {
+  // One piece: the unit direction (du, dt) in the kernel of K = [E P G | E d], from the
+  // updated factorisation of Kᵀ (variables t, u₁ … u_m) where it is clearly of full rank.
+  bool Direction(Eigen::VectorXd& dir) {
     const Eigen::Index m = epg_.rows();
     if (m == 0) {
       dir = Eigen::VectorXd::Ones(1);
       return true;
     }
+    if (qr_updates_ >= kRefactorAfter) {
+      Eigen::MatrixXd kt(m + 1, m);
+      kt << ed_.transpose(), epg_.transpose();
+      qr_.Factorize(kt);
+      qr_updates_ = 0;
+    }
+    if (qr_.DiagonalRatio() > kDoubtfulDiagonal) {
+      const Eigen::VectorXd z = qr_.q().col(m);
+      dir.resize(m + 1);
+      dir << z.tail(m), z[0];
+      if ((epg_ * dir.head(m) + ed_ * dir[m]).norm() <= kKernelResidual) return true;
+    }
+    return PivotedDirection(dir);
+  }
+
+  // The same by a pivoted factorisation of K, with its rank decided: false where it is lost.
+  bool PivotedDirection(Eigen::VectorXd& dir) const {
+    const Eigen::Index m = epg_.rows();
     Eigen::MatrixXd k(m, m + 1);
     k << epg_, ed_;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(k.transpose());
@@ -364,6 +403,7 @@ class PathFollower {
       if (!Direction(dir)) return RatePathEnd::kSingular;
       const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
       Eigen::VectorXd dalpha = pg_ * dir.head(m) + dir[m] * direction_;
+      if (dalpha.norm() <= kCollapseRate * std::abs(dir[m])) dalpha.setZero();
       const double sign = Orient(orient, oriented_contact, dir, dalpha);
       if (sign == 0.0) return RatePathEnd::kSingular;
       dir *= sign;
@@ -376,12 +416,12 @@ class PathFollower {
       last_dt_ = dt;
       last_unknowns_ = unknowns_;
 
-      const Eigen::VectorXd alpha0 = Alpha0(), alpha1 = Alpha1();
-      const Event next = NextEvent(dir, alpha0, alpha1, dalpha, t_max);
+      const Eigen::VectorXd df = p_.basis * dalpha;
+      const Event next = NextEvent(dir, df, t_max);
       if (next.kind == EventKind::kNone) {
         if (std::abs(dt) <= kRateTolerance) return RatePathEnd::kFixedCollapse;
         if (dt < 0.0) return RatePathEnd::kBack;
-        return dalpha.norm() <= 1e-9 * dt ? RatePathEnd::kCollapse : RatePathEnd::kUnbounded;
+        return dalpha.isZero(0.0) ? RatePathEnd::kCollapse : RatePathEnd::kUnbounded;
       }
       for (Eigen::Index k = 0; k < m; ++k) {
         Lex& v = Value(unknowns_[static_cast<std::size_t>(k)]);
@@ -390,6 +430,10 @@ class PathFollower {
       }
       t_.v0 += next.step.v0 * dt;
       t_.v1 += next.step.v1 * dt;
+      alpha0_ += next.step.v0 * dalpha;
+      alpha1_ += next.step.v1 * dalpha;
+      f0_ += next.step.v0 * df;
+      f1_ += next.step.v1 * df;
       if (next.kind == EventKind::kParameterLimit) return RatePathEnd::kCollapse;
       ++out.events;
       Apply(next, orient, oriented_contact);
@@ -415,8 +459,14 @@ class PathFollower {
         rate = EdgeNormal(ContactOf(contact), friction_row_sign_).dot(dalpha);
         break;
     }
-    if (std::abs(rate) <= kRateTolerance) return 0.0;
-    return rate > 0.0 ? 1.0 : -1.0;
+    if (std::abs(rate) > kRateTolerance) return rate > 0.0 ? 1.0 : -1.0;
+    // A collapse piece (the forces held, t moving) after a contact sticks or closes: no force
+    // can move along it, and it is followed as t grows.
+    const bool oriented_by_force =
+        orient == Orientation::kNormalForce || orient == Orientation::kFrictionRow;
+    if (oriented_by_force && dalpha.isZero(0.0) && std::abs(dir[m]) > kRateTolerance)
+      return dir[m] > 0.0 ? 1.0 : -1.0;
+    return 0.0;
   }
 
   static void Consider(const Event& candidate, Event& best) {
@@ -427,8 +477,8 @@ class PathFollower {
     return {std::max(0.0, v0) / -rate, v1 / -rate};
   }
 
-  Event NextEvent(const Eigen::VectorXd& dir, const Eigen::VectorXd& alpha0,
-                  const Eigen::VectorXd& alpha1, const Eigen::VectorXd& dalpha, double t_max) {
+  // The first event along the piece `dir`, whose forces change by df = S dα per unit step.
+  Event NextEvent(const Eigen::VectorXd& dir, const Eigen::VectorXd& df, double t_max) {
     Event best;
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
     for (Eigen::Index k = 0; k < m; ++k) {
@@ -445,7 +495,7 @@ class PathFollower {
       Consider({kind, u.contact, sign, StepTo(v.v0, v.v1, dir[k])}, best);
     }
     // The forces of every contact, their ε parts and rates: r = r₀ + S α.
-    const Eigen::VectorXd f0 = p_.basis * alpha0, f1 = p_.basis * alpha1, df = p_.basis * dalpha;
+    const Eigen::VectorXd &f0 = f0_, &f1 = f1_;
     for (std::size_t ci = 0; ci < p_.contacts.size(); ++ci) {
       const RateContact& c = p_.contacts[ci];
       if (c.held || state_[ci] == ContactState::kOpen) continue;
@@ -578,7 +628,7 @@ class PathFollower {
   // leave the forces of sliding and open contacts off their edges by round-off that grows
   // with the path; the least-norm change of the unknowns puts them back.
   Eigen::VectorXd PolishedAlpha() {
-    Eigen::VectorXd alpha = Alpha0();
+    Eigen::VectorXd alpha = alpha0_;
     if (unknowns_.empty()) return alpha;
     Eigen::VectorXd g(static_cast<Eigen::Index>(unknowns_.size()));
     for (std::size_t k = 0; k < unknowns_.size(); ++k)
@@ -591,7 +641,7 @@ class PathFollower {
   RatePathResult& Finish(RatePathEnd end, const std::string& message, RatePathResult& out) {
     out.end = end;
     out.message = message;
-    out.alpha = end == RatePathEnd::kCollapse ? PolishedAlpha() : Alpha0();
+    out.alpha = end == RatePathEnd::kCollapse ? PolishedAlpha() : alpha0_;
     out.t = t_.v0;
     out.states = state_;
     out.rates.assign(state_.size(), Eigen::Vector2d::Zero());
@@ -624,10 +674,15 @@ class PathFollower {
   // The linear system of the current piece, kept up to date unknown by unknown.
   std::vector<Unknown> unknowns_;
   std::vector<double> slip_sign_;
+  GivensQr qr_;  // of Kᵀ, rows t, u₁ … u_m
+  int qr_updates_ = 0;
   Eigen::MatrixXd pg_, e_, epg_;
   Eigen::VectorXd ed_;
   Eigen::MatrixXd projector_;
-  Eigen::VectorXd release_, base0_, base1_, direction_;
+  Eigen::VectorXd release_, direction_;
+  // α and S α at the path's point (order zero and ε), moved piece by piece: recomputing α
+  // from t and the unknowns cancels terms of size t, which reaches 1e15 past collapse pieces.
+  Eigen::VectorXd alpha0_, alpha1_, f0_, f1_;
   bool release_possible_ = true;
   Lex t_;
   double friction_row_sign_ = 1.0;

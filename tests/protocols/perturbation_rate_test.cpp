@@ -172,22 +172,37 @@ TEST(RatePerturbation, LongPathsAtLowFrictionEndInAnExactAnswer) {
 // inside the shift's LP interval, with the F_crit lemke's exact solve of the whole step gave
 // for this shift (4.2539918282, after 679 546 pivots, 18 minutes: the pile ensemble of
 // docs/perturbations.md, records in git at c2d67e6^).
-TEST(RatePerturbation, PileShiftIsSolvedExactlyOnThePathsPattern) {
+// A top shift of the 1600-disk pile at mu = 0.1, down: the rate solve's answer is exact,
+// linear, lemke's (F_crit from lemke's records of the same shift, 18-25 minutes each) and
+// inside the shift's LP interval.
+void ExpectPileShiftIsLemkes(int particle, double lemke_f_crit) {
   const Scene scene = Bundled("gravity-n1600-mu0.1");
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  const PerturbationTarget t = ParticleShift(base, 1561, Vec2(0.0, -1.0));
+  const PerturbationTarget t = ParticleShift(base, particle, Vec2(0.0, -1.0));
   const PerturbationResult r = Perturb(base, t, o);
   EXPECT_EQ(r.solve.backend, "rate") << r.solve.message;
   EXPECT_EQ(r.status, PerturbationStatus::kOk) << r.solve.message;
   EXPECT_LE(r.solve.residual, 1e-14) << r.solve.message;
   EXPECT_LE(r.linearity_misfit, 1e-3);
-  EXPECT_NEAR(r.f_crit, 4.2539918282, 1e-9);
+  EXPECT_NEAR(r.f_crit, lemke_f_crit, 1e-9);
   const ShiftBoundsReport lp =
       ComputeShiftBounds(BuildEquilibriumSystem(scene), {{t.i, t.direction}}, {});
   ASSERT_TRUE(lp.feasible && lp.bounds[0].min.ok() && lp.bounds[0].max.ok()) << lp.message;
   EXPECT_GE(r.f_crit, lp.bounds[0].min.value - 1e-6);
   EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6);
+}
+
+TEST(RatePerturbation, PileShiftIsSolvedExactlyOnThePathsPattern) {
+  ExpectPileShiftIsLemkes(1561, 4.2539918282);
+}
+
+// This path reaches pieces on which the forces hold while t grows (a collapse mechanism)
+// and goes on past them (one of its slips runs backwards and stops) to t ~ 1e15: the forces
+// must be carried exactly there, and the orientation after a contact sticks on such a piece
+// taken from t (no force moves along it).
+TEST(RatePerturbation, PileShiftPastCollapsePiecesIsSolvedExactly) {
+  ExpectPileShiftIsLemkes(709, 4.7165926208);
 }
 
 }  // namespace
