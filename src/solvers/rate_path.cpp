@@ -364,7 +364,14 @@ class PathFollower {
       qr_updates_ = 0;
     }
     if (qr_.DiagonalRatio() > kDoubtfulDiagonal) {
-      const Eigen::VectorXd z = qr_.q().col(m);
+      // Q's last column, with the part of its residual in K's row space taken out once
+      // (K = Rᵀ Q₁ᵀ): the updates' round-off would otherwise steer long paths elsewhere
+      // than the pivoted factorisation (measured: 4 more of 100 paths at μ = 0.1 fail).
+      Eigen::VectorXd z = qr_.q().col(m);
+      const Eigen::VectorXd residual = epg_ * z.tail(m) + ed_ * z[0];
+      z -= qr_.q().leftCols(m) *
+           qr_.r().topRows(m).transpose().triangularView<Eigen::Lower>().solve(residual);
+      z.normalize();
       dir.resize(m + 1);
       dir << z.tail(m), z[0];
       if ((epg_ * dir.head(m) + ed_ * dir[m]).norm() <= kKernelResidual) return true;
