@@ -5,6 +5,8 @@
 
 #include <Eigen/QR>
 
+#include "unjam/solvers/matrix_edit.hpp"
+
 namespace unjam {
 
 namespace {
@@ -27,18 +29,6 @@ void Rotate(X&& x, Y&& y, const Rotation& g) {
     x[k] = g.c * xk + g.s * yk;
     y[k] = -g.s * xk + g.c * yk;
   }
-}
-
-void DropRow(Eigen::MatrixXd& a, Eigen::Index k) {
-  const Eigen::Index below = a.rows() - k - 1;
-  if (below > 0) a.middleRows(k, below) = a.bottomRows(below).eval();
-  a.conservativeResize(a.rows() - 1, Eigen::NoChange);
-}
-
-void DropColumn(Eigen::MatrixXd& a, Eigen::Index k) {
-  const Eigen::Index right = a.cols() - k - 1;
-  if (right > 0) a.middleCols(k, right) = a.rightCols(right).eval();
-  a.conservativeResize(Eigen::NoChange, a.cols() - 1);
 }
 
 }  // namespace

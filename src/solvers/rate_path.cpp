@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include "unjam/solvers/givens_qr.hpp"
+#include "unjam/solvers/matrix_edit.hpp"
 
 namespace unjam {
 
@@ -158,6 +159,7 @@ class PathFollower {
     t_ = Lex{};
     unknowns_.clear();
     qr_.Reset(1);
+    qr_updates_ = 0;
     pg_.resize(dims_, 0);
     epg_.resize(0, 0);
     ed_.resize(0);
@@ -294,20 +296,10 @@ class PathFollower {
 
   void RemoveAt(Eigen::Index k) {
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
-    auto drop_row = [&](Eigen::MatrixXd& a) {
-      if (k < a.rows() - 1)
-        a.block(k, 0, a.rows() - k - 1, a.cols()) = a.bottomRows(a.rows() - k - 1).eval();
-      a.conservativeResize(a.rows() - 1, a.cols());
-    };
-    auto drop_col = [&](Eigen::MatrixXd& a) {
-      if (k < a.cols() - 1)
-        a.block(0, k, a.rows(), a.cols() - k - 1) = a.rightCols(a.cols() - k - 1).eval();
-      a.conservativeResize(a.rows(), a.cols() - 1);
-    };
-    drop_col(pg_);
-    drop_row(e_);
-    drop_row(epg_);
-    drop_col(epg_);
+    DropColumn(pg_, k);
+    DropRow(e_, k);
+    DropRow(epg_, k);
+    DropColumn(epg_, k);
     if (k < m - 1) ed_.segment(k, m - k - 1) = ed_.tail(m - k - 1).eval();
     ed_.conservativeResize(m - 1);
     unknowns_.erase(unknowns_.begin() + k);

@@ -164,17 +164,9 @@ TEST(RatePerturbation, LongPathsAtLowFrictionEndInAnExactAnswer) {
   }
 }
 
-// A top shift of the 1600-disk pile: the path collapses after 205 events and the step on
-// its pattern is exact at once (residual 2e-15). Corrections that changed every contact
-// breaking its law by rounding left that answer and ended near 2e-10, then newton stalled
-// (not-converged after 45 s). At 10 ξ the response closes a contact open in the static
-// state (a gap of a few ξ); solved with it closed, the response is 10 times this one: ok,
-// inside the shift's LP interval, with the F_crit lemke's exact solve of the whole step gave
-// for this shift (4.2539918282, after 679 546 pivots, 18 minutes: the pile ensemble of
-// docs/perturbations.md, records in git at c2d67e6^).
 // A top shift of the 1600-disk pile at mu = 0.1, down: the rate solve's answer is exact,
-// linear, lemke's (F_crit from lemke's records of the same shift, 18-25 minutes each) and
-// inside the shift's LP interval.
+// linear, lemke's (F_crit from lemke's exact solve of the whole step, 18-25 minutes each:
+// the pile ensemble's records in git at c2d67e6^) and inside the shift's LP interval.
 void ExpectPileShiftIsLemkes(int particle, double lemke_f_crit) {
   const Scene scene = Bundled("gravity-n1600-mu0.1");
   PerturbationOptions o;
@@ -193,6 +185,11 @@ void ExpectPileShiftIsLemkes(int particle, double lemke_f_crit) {
   EXPECT_LE(r.f_crit, lp.bounds[0].max.value + 1e-6);
 }
 
+// A top shift of the 1600-disk pile: the path collapses after 205 events and the step on
+// its pattern is exact at once (residual 2e-15). Corrections that changed every contact
+// breaking its law by rounding left that answer and ended near 2e-10, then newton stalled
+// (not-converged after 45 s). At 10 ξ the response closes a contact open in the static
+// state (a gap of a few ξ); solved with it closed, the response is 10 times this one.
 TEST(RatePerturbation, PileShiftIsSolvedExactlyOnThePathsPattern) {
   ExpectPileShiftIsLemkes(1561, 4.2539918282);
 }
