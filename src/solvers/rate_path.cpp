@@ -9,7 +9,7 @@
 #include <Eigen/Dense>
 
 #include "unjam/solvers/givens_qr.hpp"
-#include "unjam/solvers/matrix_edit.hpp"
+#include "unjam/solvers/resizable_matrix.hpp"
 
 namespace unjam {
 
@@ -160,18 +160,18 @@ class PathFollower {
     unknowns_.clear();
     qr_.Reset(1);
     qr_updates_ = 0;
-    pg_.resize(dims_, 0);
-    epg_.resize(0, 0);
+    pg_.Resize(dims_, 0);
+    epg_.Resize(0, 0);
     ed_.resize(0);
-    e_.resize(0, dims_);
+    e_.Resize(0, dims_);
   }
 
   // P and the least-norm α that zeroes the released forces.
   void BuildRelease() {
     projector_ = Eigen::MatrixXd::Identity(dims_, dims_);
     release_ = Eigen::VectorXd::Zero(dims_);
-    pg_.resize(dims_, 0);
-    e_.resize(0, dims_);
+    pg_.Resize(dims_, 0);
+    e_.Resize(0, dims_);
     if (p_.released_rows.empty()) return;
     Eigen::MatrixXd rows(static_cast<Eigen::Index>(p_.released_rows.size()), dims_);
     Eigen::VectorXd target(rows.rows());
@@ -296,10 +296,10 @@ class PathFollower {
 
   void RemoveAt(Eigen::Index k) {
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
-    DropColumn(pg_, k);
-    DropRow(e_, k);
-    DropRow(epg_, k);
-    DropColumn(epg_, k);
+    pg_.DropColumn(k);
+    e_.DropRow(k);
+    epg_.DropRow(k);
+    epg_.DropColumn(k);
     if (k < m - 1) ed_.segment(k, m - k - 1) = ed_.tail(m - k - 1).eval();
     ed_.conservativeResize(m - 1);
     unknowns_.erase(unknowns_.begin() + k);
@@ -313,22 +313,22 @@ class PathFollower {
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
     const Eigen::VectorXd e = EquationRow(u);
     const Eigen::VectorXd pg = projector_ * Column(u);
-    pg_.conservativeResize(dims_, m + 1);
-    pg_.col(m) = pg;
-    e_.conservativeResize(m + 1, dims_);
-    e_.row(m) = e.transpose();
-    epg_.conservativeResize(m + 1, m + 1);
-    epg_.row(m) = e.transpose() * pg_;
-    epg_.col(m) = e_ * pg;
+    pg_.Resize(dims_, m + 1);
+    pg_.view().col(m) = pg;
+    e_.Resize(m + 1, dims_);
+    e_.view().row(m) = e.transpose();
+    epg_.Resize(m + 1, m + 1);
+    epg_.view().row(m) = e.transpose() * pg_.view();
+    epg_.view().col(m) = e_.view() * pg;
     ed_.conservativeResize(m + 1);
     ed_[m] = e.dot(direction_);
     unknowns_.push_back(u);
     slip_sign_.push_back(u.kind == UnknownKind::kSlip ? SlipSign(u.contact) : 0.0);
     // Kᵀ gains the new unknown's row (its column of K on the old equations) and the new
     // equation's column (over t, then the unknowns).
-    qr_.AppendRow(epg_.col(m).head(m));
+    qr_.AppendRow(epg_.view().col(m).head(m));
     Eigen::VectorXd equation(m + 2);
-    equation << ed_[m], epg_.row(m).transpose();
+    equation << ed_[m], epg_.view().row(m).transpose();
     qr_.AppendColumn(equation);
     ++qr_updates_;
   }
@@ -345,13 +345,14 @@ class PathFollower {
   // updated factorisation of Kᵀ (variables t, u₁ … u_m) where it is clearly of full rank.
   bool Direction(Eigen::VectorXd& dir) {
     const Eigen::Index m = epg_.rows();
+    const auto epg = epg_.view();
     if (m == 0) {
       dir = Eigen::VectorXd::Ones(1);
       return true;
     }
     if (qr_updates_ >= kRefactorAfter) {
       Eigen::MatrixXd kt(m + 1, m);
-      kt << ed_.transpose(), epg_.transpose();
+      kt << ed_.transpose(), epg.transpose();
       qr_.Factorize(kt);
       qr_updates_ = 0;
     }
@@ -360,13 +361,13 @@ class PathFollower {
       // (K = Rᵀ Q₁ᵀ): the updates' round-off would otherwise steer long paths elsewhere
       // than the pivoted factorisation (measured: 4 more of 100 paths at μ = 0.1 fail).
       Eigen::VectorXd z = qr_.q().col(m);
-      const Eigen::VectorXd residual = epg_ * z.tail(m) + ed_ * z[0];
+      const Eigen::VectorXd residual = epg * z.tail(m) + ed_ * z[0];
       z -= qr_.q().leftCols(m) *
            qr_.r().topRows(m).transpose().triangularView<Eigen::Lower>().solve(residual);
       z.normalize();
       dir.resize(m + 1);
       dir << z.tail(m), z[0];
-      if ((epg_ * dir.head(m) + ed_ * dir[m]).norm() <= kKernelResidual) return true;
+      if ((epg * dir.head(m) + ed_ * dir[m]).norm() <= kKernelResidual) return true;
     }
     return PivotedDirection(dir);
   }
@@ -375,7 +376,7 @@ class PathFollower {
   bool PivotedDirection(Eigen::VectorXd& dir) const {
     const Eigen::Index m = epg_.rows();
     Eigen::MatrixXd k(m, m + 1);
-    k << epg_, ed_;
+    k << epg_.view(), ed_;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(k.transpose());
     qr.setThreshold(1e-11);
     if (qr.rank() < m) return false;
@@ -401,7 +402,7 @@ class PathFollower {
       Eigen::VectorXd dir;
       if (!Direction(dir)) return RatePathEnd::kSingular;
       const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
-      Eigen::VectorXd dalpha = pg_ * dir.head(m) + dir[m] * direction_;
+      Eigen::VectorXd dalpha = pg_.view() * dir.head(m) + dir[m] * direction_;
       if (dalpha.norm() <= kCollapseRate * std::abs(dir[m])) dalpha.setZero();
       const double sign = Orient(orient, oriented_contact, dir, dalpha);
       if (sign == 0.0) return RatePathEnd::kSingular;
@@ -415,7 +416,9 @@ class PathFollower {
       last_dt_ = dt;
       last_unknowns_ = unknowns_;
 
-      const Eigen::VectorXd df = p_.basis * dalpha;
+      // A collapse piece moves no force: its S dα is zero without the product.
+      Eigen::VectorXd df = Eigen::VectorXd::Zero(p_.basis.rows());
+      if (!dalpha.isZero(0.0)) df.noalias() = p_.basis * dalpha;
       const Event next = NextEvent(dir, df, t_max);
       if (next.kind == EventKind::kNone) {
         if (std::abs(dt) <= kRateTolerance) return RatePathEnd::kFixedCollapse;
@@ -632,9 +635,9 @@ class PathFollower {
     Eigen::VectorXd g(static_cast<Eigen::Index>(unknowns_.size()));
     for (std::size_t k = 0; k < unknowns_.size(); ++k)
       g[static_cast<Eigen::Index>(k)] = EquationValue(unknowns_[k], alpha);
-    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(epg_);
+    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(epg_.view());
     const Eigen::VectorXd du = cod.solve(g);
-    return alpha - pg_ * du;
+    return alpha - pg_.view() * du;
   }
 
   RatePathResult& Finish(RatePathEnd end, const std::string& message, RatePathResult& out) {
@@ -675,7 +678,7 @@ class PathFollower {
   std::vector<double> slip_sign_;
   GivensQr qr_;  // of Kᵀ, rows t, u₁ … u_m
   int qr_updates_ = 0;
-  Eigen::MatrixXd pg_, e_, epg_;
+  ResizableMatrix pg_, e_, epg_;
   Eigen::VectorXd ed_;
   Eigen::MatrixXd projector_;
   Eigen::VectorXd release_, direction_;

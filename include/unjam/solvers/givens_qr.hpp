@@ -8,10 +8,13 @@
 
 #include <Eigen/Core>
 
+#include "unjam/solvers/resizable_matrix.hpp"
+
 namespace unjam {
 
 class GivensQr {
  public:
+  GivensQr() { Reset(1); }
   // A with `rows` rows and no column: Q = I, R empty.
   void Reset(Eigen::Index rows);
   // A factorised anew (no pivoting): after many updates, to shed their round-off.
@@ -24,8 +27,8 @@ class GivensQr {
 
   Eigen::Index rows() const { return q_.rows(); }
   Eigen::Index cols() const { return r_.cols(); }
-  const Eigen::MatrixXd& q() const { return q_; }
-  const Eigen::MatrixXd& r() const { return r_; }
+  ResizableMatrix::ConstView q() const { return q_.view(); }
+  ResizableMatrix::ConstView r() const { return r_.view(); }
   // min |R_jj| / max |R_jj| over the columns (1 without columns): a rank test without
   // pivoting, good enough to send doubtful cases to a pivoted factorisation.
   double DiagonalRatio() const;
@@ -35,8 +38,7 @@ class GivensQr {
   // i, j so that Q R stays A.
   void ZeroWithRows(Eigen::Index i, Eigen::Index j, Eigen::Index col, Eigen::Index from);
 
-  Eigen::MatrixXd q_ = Eigen::MatrixXd::Identity(1, 1);
-  Eigen::MatrixXd r_ = Eigen::MatrixXd(1, 0);
+  ResizableMatrix q_, r_;
 };
 
 }  // namespace unjam
