@@ -372,15 +372,35 @@ class PathFollower {
     return PivotedDirection(dir);
   }
 
-  // The same by a pivoted factorisation of K, with its rank decided: false where it is lost.
+  // The same by a pivoted factorisation of K, with its rank decided. Where it is lost, the
+  // kernel has more than one direction: false unless one of them is a collapse piece.
   bool PivotedDirection(Eigen::VectorXd& dir) const {
     const Eigen::Index m = epg_.rows();
     Eigen::MatrixXd k(m, m + 1);
     k << epg_.view(), ed_;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(k.transpose());
     qr.setThreshold(1e-11);
-    if (qr.rank() < m) return false;
-    dir = qr.householderQ() * Eigen::VectorXd::Unit(m + 1, m);
+    const Eigen::MatrixXd q = qr.householderQ();
+    if (qr.rank() < m) return CollapseInKernel(q.rightCols(m + 1 - qr.rank()), dir);
+    dir = q.col(m);
+    return true;
+  }
+
+  // A kernel of several directions (the last columns of Kᵀ's Q, variables u₁ … u_m, t): the
+  // combination that moves no force, where it moves t, is a collapse piece: a second
+  // mechanism formed beside the one the path was growing, as on the 1600-disk pile, where
+  // the path then ends exactly (lemke's F_crit). A combination that moves neither (a grain
+  // spinning with every contact sliding) leaves the path undecided.
+  bool CollapseInKernel(const Eigen::MatrixXd& kernel, Eigen::VectorXd& dir) const {
+    const Eigen::Index m = kernel.rows() - 1;
+    const Eigen::MatrixXd moves =
+        pg_.view() * kernel.topRows(m) + direction_ * kernel.row(m);  // dα per column
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(moves, Eigen::ComputeFullV);
+    const Eigen::Index last = kernel.cols() - 1;
+    const double least = last < svd.singularValues().size() ? svd.singularValues()[last] : 0.0;
+    const Eigen::VectorXd v = kernel * svd.matrixV().col(last);
+    if (std::abs(v[m]) <= kRateTolerance || least > kCollapseRate * std::abs(v[m])) return false;
+    dir = v.normalized();
     return true;
   }
 

@@ -202,5 +202,13 @@ TEST(RatePerturbation, PileShiftPastCollapsePiecesIsSolvedExactly) {
   ExpectPileShiftIsLemkes(709, 4.7165926208);
 }
 
+// Near this path's end a piece loses rank: a second mechanism forms beside the one it was
+// growing, and the kernel holds a combination that moves no force while t grows (a collapse
+// piece). Taken as such, the path ends on lemke's answer; refused, it ended `singular` and
+// newton stalled near 1e-11 (not-converged).
+TEST(RatePerturbation, PileShiftWhoseKernelHoldsTwoMechanismsEndsOnTheCollapse) {
+  ExpectPileShiftIsLemkes(566, 18.6549141381);
+}
+
 }  // namespace
 }  // namespace unjam
