@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Perturbation ensembles that take longer than one sitting: the top and bottom shifts of the
-# bundled 1600-disk pile (docs/perturbations.md, "Ensembles longer than a session"). Each
+# bundled 1600-disk piles (docs/perturbations.md, "Ensembles longer than a session"). Each
 # ensemble has a run folder, ${UNJAM_ENSEMBLES:-out/ensembles}/NAME (out/ is git-ignored),
 # where `unjam perturb -o` writes every record as it finishes and resumes, without losing or
 # repeating a shift, and refuses a second writer.
@@ -20,19 +20,19 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 work_root="${UNJAM_ENSEMBLES:-$root/out/ensembles}"
 summaries="$root/bench/results/ensembles"
 
-# NAME -> the packing, the side and the perturb options. The options are those of the runs
-# in docs/performance.md: lemke, its box-form rate path first, a pivot budget that a
-# 1600-disk shift needs, no fallback (ipopt does not resolve these steps either).
+# NAME -> the packing, the side and the perturb options: the default solve (the rate solve,
+# the step backend where it gives no definite answer), as in docs/performance.md.
 recipe() {
-  local lemke="--backend lemke --max-iter 3000000 --fallback none --lemke-box-first"
   case "$1" in
-    gravity-n1600-mu0.1-top) echo "problems/gravity-n1600-mu0.1.unjam --top $lemke" ;;
-    gravity-n1600-mu0.1-bottom) echo "problems/gravity-n1600-mu0.1.unjam --bottom $lemke" ;;
+    gravity-n1600-mu0.1-top) echo "problems/gravity-n1600-mu0.1.unjam --top" ;;
+    gravity-n1600-mu0.1-bottom) echo "problems/gravity-n1600-mu0.1.unjam --bottom" ;;
+    gravity-n1600-mu1-top) echo "problems/gravity-n1600-mu1.unjam --top" ;;
+    gravity-n1600-mu1-bottom) echo "problems/gravity-n1600-mu1.unjam --bottom" ;;
     demo) echo "problems/gravity-n100-mu0.5.unjam --top" ;;
     *) return 1 ;;
   esac
 }
-names=(gravity-n1600-mu0.1-top gravity-n1600-mu0.1-bottom)
+names=(gravity-n1600-mu0.1-top gravity-n1600-mu0.1-bottom gravity-n1600-mu1-top gravity-n1600-mu1-bottom)
 
 die() { echo "long-ensembles.sh: $*" >&2; exit 2; }
 records() { local f="$work_root/$1/records.jsonl"; [ -e "$f" ] && echo $(( $(wc -l <"$f") - 1 )) || echo 0; }
