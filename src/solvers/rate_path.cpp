@@ -380,9 +380,12 @@ class PathFollower {
     k << epg_.view(), ed_;
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(k.transpose());
     qr.setThreshold(1e-11);
-    const Eigen::MatrixXd q = qr.householderQ();
-    if (qr.rank() < m) return CollapseInKernel(q.rightCols(m + 1 - qr.rank()), dir);
-    dir = q.col(m);
+    // The last columns of Kᵀ's Q span K's kernel (only those are formed: O(m²) each).
+    const Eigen::Index nullity = m + 1 - qr.rank();
+    const Eigen::MatrixXd kernel =
+        qr.householderQ() * Eigen::MatrixXd::Identity(m + 1, m + 1).rightCols(nullity);
+    if (nullity > 1) return CollapseInKernel(kernel, dir);
+    dir = kernel.col(0);
     return true;
   }
 
