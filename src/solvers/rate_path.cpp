@@ -43,6 +43,10 @@ constexpr double kZeroLoad = 1e-9;
 // one (a slip of the mechanism that runs backwards stops) reach t ~ 1e15, where round-off
 // in the forces would be of their own size.
 constexpr double kCollapseRate = 1e-9;
+// A direction whose α moves by `dalpha_norm` while t moves by dt is such a piece.
+bool MovesNoForce(double dalpha_norm, double dt) {
+  return dalpha_norm <= kCollapseRate * std::abs(dt);
+}
 // The piece's kernel comes from a QR factorisation updated event by event (O(m²) instead of
 // O(m³)), factorised anew after this many updates; where its diagonal is this close to
 // rank loss, or its kernel misses, the pivoted factorisation decides.
@@ -402,7 +406,7 @@ class PathFollower {
     const Eigen::Index last = kernel.cols() - 1;
     const double least = last < svd.singularValues().size() ? svd.singularValues()[last] : 0.0;
     const Eigen::VectorXd v = kernel * svd.matrixV().col(last);
-    if (std::abs(v[m]) <= kRateTolerance || least > kCollapseRate * std::abs(v[m])) return false;
+    if (std::abs(v[m]) <= kRateTolerance || !MovesNoForce(least, v[m])) return false;
     dir = v.normalized();
     return true;
   }
@@ -426,7 +430,7 @@ class PathFollower {
       if (!Direction(dir)) return RatePathEnd::kSingular;
       const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
       Eigen::VectorXd dalpha = pg_.view() * dir.head(m) + dir[m] * direction_;
-      if (dalpha.norm() <= kCollapseRate * std::abs(dir[m])) dalpha.setZero();
+      if (MovesNoForce(dalpha.norm(), dir[m])) dalpha.setZero();
       const double sign = Orient(orient, oriented_contact, dir, dalpha);
       if (sign == 0.0) return RatePathEnd::kSingular;
       dir *= sign;
