@@ -46,17 +46,11 @@ void SolverFlags::Register(CLI::App& app) {
   app.add_option("--nlopt-eval", options.nlopt.max_evaluations,
                  "nlopt: objective evaluations per convex solve")
       ->capture_default_str();
-  app.add_flag("--lemke-warm", options.lemke.warm_start,
-               "lemke (experimental): first follow the homotopy from the warm start (the static "
-               "forces), then the path from zero");
   app.add_option("--lemke-row-pivots", options.lemke.pivots_per_row,
                  "lemke: pivots per complementarity row that each of its runs may take before the "
                  "next is tried (0: 20, and 200 in the rate form)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
-  app.add_flag("--lemke-box-first", options.lemke.box_rate_first,
-               "lemke, perturbation steps with friction: try the box-form path in the rate form "
-               "before the other paths (on tall piles those cycle first)");
   app.add_flag("--require-converged", require_converged,
                "exit with code 3 if the solver did not converge");
 }

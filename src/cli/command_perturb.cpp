@@ -67,16 +67,6 @@ void PerturbFlags::Register(CLI::App& a) {
                "with the same motion pattern nearest the static forces, by a linear program)")
       ->check(CLI::IsMember({"path", "nearest"}))
       ->capture_default_str();
-  a.add_flag("--prefer-quasi-static", prefer_quasi_static,
-             "lemke: where a run ends on a solution in which some grain moves fast enough to make "
-             "the step dynamic, "
-             "try the remaining runs and report the first quasi-static solution (if none, the "
-             "first solution)");
-  a.add_flag("--dynamic-lp", dynamic_lp,
-             "contact openings: before solving, an LP over the contact forces bounds the step's "
-             "inertial forces from "
-             "below; where that bound makes the step dynamic, report it dynamic (F_crit nan, no "
-             "motion) without solving");
   a.add_option("--threads", threads, "perturbations solved in parallel (0: all cores)")
       ->check(cli::NonNegative())
       ->capture_default_str();
@@ -92,12 +82,6 @@ void PerturbFlags::Register(CLI::App& a) {
           std::to_string(kLemkeAutoContacts) +
           " force-carrying contacts or when a lemke option is given (newton above, and at fixed "
           "volume), newton on frictionless ones");
-  a.add_option("--fallback", fallback,
-               "backend that solves a step again when the first leaves it unresolved; auto: ipopt "
-               "when --backend auto picks lemke, lemke when it picks newton on a frictionless "
-               "packing at fixed pressure, else none")
-      ->check(CLI::IsMember({"auto", "none", "nsgs", "newton", "ipopt", "nlopt", "lemke"}))
-      ->capture_default_str();
   a.get_option("--tol")
       ->description("the solver tolerance itself (default: set by --response-tol)")
       ->default_str("");
@@ -165,10 +149,7 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
   o.response_tolerance = f.response_tol;
   o.check_linearity = f.check_linearity;
   o.check_by_continuation = !f.cold_check;
-  o.fallback = f.fallback;
   o.nearest_member = f.member == "nearest";
-  o.prefer_quasi_static = f.prefer_quasi_static;
-  o.dynamic_precheck = f.dynamic_lp;
   if (f.app != nullptr && f.app->count("--tol") > 0)
     o.solver_tolerance = f.solver.options.tolerance;
   Validate(o);
@@ -178,8 +159,6 @@ PerturbationOptions OptionsFrom(const PerturbFlags& f) {
 // The backends' own options that change their answers.
 void AddBackendOptions(const SolverOptions& o, nlohmann::json& header) {
   header["lemke_pivots_per_row"] = o.lemke.pivots_per_row;
-  header["lemke_box_first"] = o.lemke.box_rate_first;
-  header["lemke_warm"] = o.lemke.warm_start;
   header["newton_iterations"] = o.newton.max_iterations;
   header["warmup_tol"] = o.newton.warmup_tolerance;
   header["ipopt_iterations"] = o.ipopt.max_iterations;
@@ -209,9 +188,7 @@ nlohmann::json Header(const PerturbFlags& f, const Selection& s, const Perturbat
                            {"check_linearity", o.check_linearity},
                            {"check_by_continuation", o.check_linearity && o.check_by_continuation},
                            {"fallback", o.fallback},
-                           {"member", o.nearest_member ? "nearest" : "path"},
-                           {"prefer_quasi_static", o.prefer_quasi_static},
-                           {"dynamic_lp", o.dynamic_precheck}};
+                           {"member", o.nearest_member ? "nearest" : "path"}};
   AddBackendOptions(o.solver, header);
   // A backend whose answers changed raises its revision (ContactSolver::AnswerRevision):
   // records of its earlier answers are not mixed with new ones.
@@ -382,8 +359,6 @@ nlohmann::json SummaryJson(const PerturbFlags& f, const Selection& sel,
       {"check_linearity", o.check_linearity},
       {"check_by_continuation", o.check_linearity && o.check_by_continuation},
       {"member", o.nearest_member ? "nearest" : "path"},
-      {"prefer_quasi_static", o.prefer_quasi_static},
-      {"dynamic_lp", o.dynamic_precheck},
       {"perturbations", s.perturbations},
       {"used", s.used},
       {"not_converged", s.not_converged},
@@ -534,8 +509,7 @@ int ReportUnusable(const EnsembleSummary& summary, bool lemke_left_for_size,
         "  (auto gave this packing of more than %zu contacts to newton, which stalls on "
         "quasi-static frictional "
         "responses; lemke resolves them exactly, at minutes to an hour each: --backend lemke "
-        "--max-iter 3000000, "
-        "and --lemke-box-first on piles; docs/perturbations.md, \"Which backend `auto` picks\")\n",
+        "--max-iter 3000000; docs/perturbations.md, \"Which backend `auto` picks\")\n",
         kLemkeAutoContacts);
   }
   return require_converged ? kNotConverged : kOk;

@@ -31,9 +31,6 @@ struct PerturbFlags {
   bool check_linearity = true;       // --no-check-linearity turns it off
   bool cold_check = false;           // --cold-check: the 10 xi check from zero impulses
   std::string member = "path";
-  bool prefer_quasi_static = false;  // --prefer-quasi-static
-  bool dynamic_lp = false;           // --dynamic-lp: PerturbationOptions::dynamic_precheck
-  std::string fallback = "auto";     // --fallback: the second backend of an unresolved step
   bool json = false;
   bool summary = true;  // false: nothing on stdout (a study's steps: the study prints one report)
   bool quiet = false;

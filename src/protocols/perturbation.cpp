@@ -138,7 +138,6 @@ PerturbationBase PreparePerturbations(const Scene& static_scene,
     ++free_particles;
   }
   base.mean_mass = free_particles > 0 ? base.mean_mass / free_particles : 1.0;
-  if (options.dynamic_precheck) base.opening_inertia_lp = std::make_shared<OpeningInertiaLp>();
   base.rate = std::make_shared<RateBaseSlot>();
   return base;
 }

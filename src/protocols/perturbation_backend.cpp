@@ -8,10 +8,7 @@
 namespace unjam {
 
 namespace {
-bool LemkeOptionsGiven(const PerturbationOptions& o) {
-  return o.solver.lemke.warm_start || o.solver.lemke.pivots_per_row > 0 ||
-         o.solver.lemke.box_rate_first || o.prefer_quasi_static;
-}
+bool LemkeOptionsGiven(const PerturbationOptions& o) { return o.solver.lemke.pivots_per_row > 0; }
 
 bool FixedVolumeCell(const PerturbationOptions& options, const Scene& scene) {
   return scene.effects.pressure_bath.has_value() && options.cell == CellCondition::kFixedVolume;
@@ -71,19 +68,6 @@ void ResolveBackends(PerturbationOptions& options, const Scene& scene) {
 
 namespace perturbation_internal {
 
-namespace {
-// The speed above which a grain makes the step dynamic (InertiaRatio above the threshold),
-// for the lightest grain that may move: any faster velocity makes every grain dynamic.
-double DynamicSpeed(const PerturbationBase& base, const PerturbationOptions& options) {
-  double lightest = std::numeric_limits<double>::infinity();
-  for (const Particle& p : base.scene.particles) {
-    if (!p.fixed) lightest = std::min(lightest, p.Mass());
-  }
-  const double force = base.mean_contact_force > 0.0 ? base.mean_contact_force : 1.0;
-  return options.max_inertia_ratio * force * options.dt / lightest;
-}
-}  // namespace
-
 // The one step of a perturbation: a static solve of the perturbed scene.
 StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationOptions& options) {
   StaticSolveOptions solve;
@@ -95,7 +79,6 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
   solve.solver.tolerance = SolverToleranceFor(options, base);
   solve.solver.lemke.velocity_scale = options.gap / options.dt;
   solve.solver.newton.warm_probe = true;  // the static forces are the warm start
-  if (options.prefer_quasi_static) solve.solver.lemke.velocity_bound = DynamicSpeed(base, options);
   solve.nearest_member = options.nearest_member;
   return solve;
 }

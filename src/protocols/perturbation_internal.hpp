@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "perturbation_rate.hpp"
-#include "unjam/problem/inertia_bound.hpp"
 #include "unjam/protocols/perturbation.hpp"
 #include "unjam/protocols/static_solve.hpp"
 
@@ -21,14 +20,6 @@ namespace unjam {
 struct RateBaseSlot {
   std::once_flag once;
   RateBase rate;
-};
-
-// The shared inertia LP of a base's contact openings (PerturbationBase::opening_inertia_lp).
-struct OpeningInertiaLp {
-  std::once_flag once;
-  std::unique_ptr<HeldContactInertia> lp;
-  std::vector<Contact> contacts;  // of the unperturbed step's problem, in its order
-  int dofs = 0;                   // its degrees of freedom (the cell's included)
 };
 
 namespace perturbation_internal {
@@ -53,7 +44,6 @@ StaticSolveOptions StepOptions(const PerturbationBase& base, const PerturbationO
 // perturbation_measure.cpp
 double EffectiveWeight(int p, const std::vector<Contact>& contacts,
                        const std::vector<Eigen::Vector2d>& forces);
-Eigen::VectorXd InertiaScales(const PerturbationBase& base, const AssembledProblem& a);
 void SetOriginAndReference(const PerturbationBase& base, const PerturbationTarget& t,
                            PerturbationResult& r);
 void Measure(const PerturbationBase& base, const PerturbationOptions& options,
@@ -67,11 +57,6 @@ PerturbationResult DecidedWithoutSolving(const PerturbationBase& base,
                                          PerturbationResult r, Clock::time_point start);
 PerturbationResult Blocked(const PerturbationBase& base, const std::string& decided_by,
                            const std::string& why, PerturbationResult r, Clock::time_point start);
-std::optional<PerturbationResult> DynamicBeforeSolving(const PerturbationBase& base,
-                                                       const StaticProblem& posed,
-                                                       const PerturbationOptions& options,
-                                                       const PerturbationResult& r,
-                                                       Clock::time_point start);
 
 }  // namespace perturbation_internal
 }  // namespace unjam

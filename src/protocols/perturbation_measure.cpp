@@ -7,7 +7,6 @@
 
 #include "perturbation_internal.hpp"
 #include "unjam/analysis/equilibrium.hpp"
-#include "unjam/problem/inertia_bound.hpp"
 
 namespace unjam {
 namespace perturbation_internal {
@@ -84,7 +83,7 @@ double PenetrationDepth(const Scene& scene, const std::vector<Vec2>& d, Vec2 ori
   return total > 0.0 ? weighted / total : 0.0;
 }
 
-// The force scale of each kind of degree of freedom (problem/inertia_bound.hpp): a grain's
+// The force scale of each kind of degree of freedom: a grain's
 // translation, the mean contact force; its spin, that force times its radius; the cell's
 // strain, D V P_ext (the virial at the bath's pressure).
 double TranslationScale(const PerturbationBase& base) {
@@ -113,23 +112,6 @@ double InertiaRatio(const PerturbationBase& base, const PerturbationResult& r, d
   return largest / (dt * dt);
 }
 
-}  // namespace
-
-// s_d per degree of freedom of the posed step, in its layout (contact_problem.hpp).
-Eigen::VectorXd InertiaScales(const PerturbationBase& base, const AssembledProblem& a) {
-  const ContactProblem& p = a.problem;
-  Eigen::VectorXd scale(p.NumDofs());
-  const double force = TranslationScale(base);
-  for (int b = 0; b < p.NumBodies(); ++b) {
-    const int at = b * p.DofsPerBody();
-    scale[at] = scale[at + 1] = force;
-    if (p.frictional) scale[at + 2] = force * base.scene.particles[a.particle_of_body[b]].radius;
-  }
-  if (p.cell) scale[p.NumDofs() - 1] = CellScale(base.scene);
-  return scale;
-}
-
-namespace {
 // The inertial work over the step, over ξ: grains, and the cell under a pressure bath (its
 // strain ε = ΔL/L moves with mass M_λ D V, docs/method.md).
 double InertialForce(const PerturbationBase& base, const PerturbationResult& r, double gap,

@@ -205,12 +205,6 @@ PerturbationResult PerturbOnce(const PerturbationBase& base, const PerturbationT
     if (kinematics.decided && !kinematics.admissible)
       return Blocked(base, "kinematic LP", kinematics.message, std::move(r), start);
   }
-  // A shift's LP is the static state's with the shifted particle's balance dropped: the
-  // stored forces satisfy it, so its bound is zero and it can decide nothing.
-  if (options.dynamic_precheck && target.kind == PerturbationTarget::Kind::kContactOpening) {
-    if (auto dynamic = DynamicBeforeSolving(base, posed, options, r, start))
-      return std::move(*dynamic);
-  }
   std::string rate_account;
   if (PerturbationBackend(options, base.scene) == "rate" && continued == nullptr) {
     if (auto answered =
@@ -239,10 +233,6 @@ PerturbationResult Perturb(const PerturbationBase& base, const PerturbationTarge
   // A linear response's inertia grows with the gap, so at 10ξ it is judged against a
   // threshold 10 times as high: the same regime, not a stricter one.
   scaled.max_inertia_ratio *= kLinearityGapFactor;
-  // The inertia LP has no kinematics, so at 10ξ it differs only by the contacts the larger
-  // margin adds (a relaxation): its bound, at most the one that passed at ξ, cannot exceed
-  // a threshold 10 times as high.
-  scaled.dynamic_precheck = false;
   // An answer of the fallback is checked by the fallback: the first backend left the step
   // at ξ unresolved, and would most likely fail again at 10ξ.
   const std::string fallback = PerturbationFallback(options, base.scene);

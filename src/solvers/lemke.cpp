@@ -110,27 +110,6 @@ Encoding Encode(const MatrixForm& k, ConeForm form) {
   return enc;
 }
 
-// The guess of impulses r as complementarity variables of the slip-speed form: r_n = p − m,
-// r_t = a − b with a + b ≤ μ r_n (the part of r_t outside the cone is dropped), slip
-// speeds zero. (Warm runs use that form only.)
-Eigen::VectorXd StartOf(const MatrixForm& k, const Eigen::VectorXd& r, int variables) {
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(variables);
-  int v = 0;
-  for (int c = 0; c < k.NumContacts(); ++c) {
-    const double rn = r[k.per_contact * c];
-    if (k.laws[c].kind == ConstraintKind::kBilateral) {
-      z[v] = std::max(rn, 0.0), z[v + 1] = std::max(-rn, 0.0), v += 2;
-    } else if (k.per_contact == 1 || k.laws[c].mu == 0.0) {
-      z[v] = std::max(rn, 0.0), v += 1;
-    } else {
-      const double bound = k.laws[c].mu * std::max(rn, 0.0);
-      const double rt = std::clamp(r[k.per_contact * c + 1], -bound, bound);
-      z[v] = std::max(rn, 0.0), z[v + 1] = std::max(rt, 0.0), z[v + 2] = std::max(-rt, 0.0), v += 4;
-    }
-  }
-  return z;
-}
-
 // The complementarity variables of contact c in the slip-speed form (Encode).
 int SlipFormVariables(const MatrixForm& k, int c) {
   if (k.laws[c].kind == ConstraintKind::kBilateral) return 2;
@@ -288,33 +267,17 @@ bool HasFriction(const MatrixForm& k) {
   });
 }
 
-// SolverOptions::lemke.velocity_bound: does the answer move some free variable faster?
-// Says so in the run's account. The step's frictional law may have several solutions, and
-// on a pile at μ = 1 the first path usually ends on one in which a grain held up by
-// friction alone falls freely, while a later run ends on a quasi-static one
-// (docs/perturbations.md, "At μ = 1").
-bool AboveVelocityBound(const MatrixForm& k, const Eigen::VectorXd& impulses,
-                        const SolverOptions& o, std::string& history) {
-  if (o.lemke.velocity_bound <= 0.0) return false;
-  const double fastest = (k.v_free + k.g * impulses).cwiseAbs().maxCoeff();
-  if (fastest <= o.lemke.velocity_bound) return false;
-  history += " (a velocity of " + Scientific(fastest) + ", above the bound " +
-             Scientific(o.lemke.velocity_bound) + ": the next run is tried)";
-  return true;
-}
-
 // One run of Lemke's method: its path, form and tie tolerance.
 struct Run {
   double tie;
   const char* name;
-  bool warm;
   double perturbation = 0.0;
   ConeForm form = ConeForm::kSlipSpeed;
   bool basis_only = false;  // the given basis solved as it is, no path
   bool rate = false;        // velocities in units of the velocity scale
 };
 
-// Runs tried in turn: from the warm start (the problem's guess), then from zero
+// Runs tried in turn: the given basis (the answer at another gap), then paths from zero
 // impulses, each with tie tolerances 1e-16, then 1e-14 and 1e-12 (lemke_mlcp.hpp); a
 // path that ends on a ray, cycles or misses the tolerance is followed by the next run.
 // Right after the first path from zero come paths from zero in the rate form (when the
@@ -354,52 +317,25 @@ struct Run {
 // unresolved, at 101 and 108 (--max-iter must allow it: the default 100 000 pivots do
 // not). A user may set another bound for every run (SolverOptions::lemke.pivots_per_row,
 // --lemke-row-pivots).
-// On those piles the plain and the slip-speed rate paths cycle first, at a quarter to a
-// third of the pivots; SolverOptions::lemke.box_rate_first (--lemke-box-first) tries the
-// box-form rate path first. Every path starts from zero, so where the paths before it
-// cycle the answer is the same; where one of them solves, it may be another member.
 // A cycling path is stopped by the cycle check (lemke_mlcp.hpp), not by this bound.
-// The warm start's homotopy (--lemke-warm) runs in the rate form first where there is
-// one (ties 1e-16, then 1e-14), then in the step's own units: on the 17 top shifts of
-// the μ = 1 pile 25 wide its rate-form paths end quasi-static on 5 (3 of them on no
-// cold run's path, all at ties 1e-14), in 1 900–8 100 pivots, where in the
-// step's own units they end on rays or cycles on 15 (docs/perturbations.md, "At μ = 1").
 // The rate form is the slip-speed form itself when no velocity scale is given (rate_form
 // false).
-std::vector<Run> PlanRuns(bool given_basis, bool has_guess, bool rate_form, bool frictional,
-                          bool box_rate_first) {
+std::vector<Run> PlanRuns(bool given_basis, bool rate_form, bool frictional) {
   std::vector<Run> runs;
-  if (given_basis) runs.push_back({0.0, "none", false, 0.0, ConeForm::kSlipSpeed, true});
-  if (has_guess && rate_form) {
-    runs.insert(runs.end(), {{1e-16, "1e-16", true, 0.0, ConeForm::kSlipSpeed, false, true},
-                             {1e-14, "1e-14", true, 0.0, ConeForm::kSlipSpeed, false, true}});
-  }
-  if (has_guess) runs.insert(runs.end(), {{1e-16, "1e-16", true}, {1e-14, "1e-14", true}});
-  runs.push_back({1e-16, "1e-16", false});
+  if (given_basis) runs.push_back({0.0, "none", 0.0, ConeForm::kSlipSpeed, true});
+  runs.push_back({1e-16, "1e-16"});
   if (rate_form) {
-    runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kSlipSpeed, false, true});
-    if (frictional)
-      runs.push_back({1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox, false, true});
-    runs.push_back({1e-14, "1e-14", false, 0.0, ConeForm::kSlipSpeed, false, true});
+    runs.push_back({1e-16, "1e-16", 0.0, ConeForm::kSlipSpeed, false, true});
+    if (frictional) runs.push_back({1e-16, "1e-16", 0.0, ConeForm::kShiftedBox, false, true});
+    runs.push_back({1e-14, "1e-14", 0.0, ConeForm::kSlipSpeed, false, true});
   }
-  runs.insert(runs.end(), {{1e-14, "1e-14", false},
-                           {1e-12, "1e-12", false},
-                           {1e-16, "1e-16", false, 1e-2},
-                           {1e-16, "1e-16", false, 1e-1}});
+  runs.insert(runs.end(),
+              {{1e-14, "1e-14"}, {1e-12, "1e-12"}, {1e-16, "1e-16", 1e-2}, {1e-16, "1e-16", 1e-1}});
   if (frictional) {
-    runs.insert(runs.end(), {{1e-16, "1e-16", false, 0.0, ConeForm::kShiftedBox},
-                             {1e-16, "1e-16", false, 1e-2, ConeForm::kShiftedBox}});
+    runs.insert(runs.end(), {{1e-16, "1e-16", 0.0, ConeForm::kShiftedBox},
+                             {1e-16, "1e-16", 1e-2, ConeForm::kShiftedBox}});
   }
-  if (rate_form) runs.push_back({1e-16, "1e-16", false, 1e-2, ConeForm::kSlipSpeed, false, true});
-  if (box_rate_first && rate_form && frictional) {
-    // The box-form path in the rate form first, after the given basis and the warm start.
-    const auto box_rate = std::find_if(runs.begin(), runs.end(), [](const Run& r) {
-      return r.rate && r.form == ConeForm::kShiftedBox;
-    });
-    const auto first_cold = std::find_if(runs.begin(), runs.end(),
-                                         [](const Run& r) { return !r.basis_only && !r.warm; });
-    std::rotate(first_cold, box_rate, box_rate + 1);
-  }
+  if (rate_form) runs.push_back({1e-16, "1e-16", 1e-2, ConeForm::kSlipSpeed, false, true});
   return runs;
 }
 
@@ -413,9 +349,7 @@ std::string RunAccount(const Run& run, const lemke_internal::LemkeResult& lemke,
   const bool perturbed = run.perturbation > 0.0;
   return std::string(run.rate ? "rate form, " : "") +
          (run.form == ConeForm::kShiftedBox ? "box form, " : "") +
-         (run.warm    ? std::string("warm")
-          : perturbed ? "perturbed " + Scientific(run.perturbation)
-                      : std::string("cold")) +
+         (perturbed ? "perturbed " + Scientific(run.perturbation) : std::string("cold")) +
          ", ties " + run.name + ": " + (solved ? std::string("solved") : failure) + " after " +
          std::to_string(lemke.pivots) + " pivots";
 }
@@ -438,15 +372,10 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
   report.backend = name;
   std::string history;
   int pivots = 0;
-  const bool has_guess = o.lemke.warm_start && given.impulses.size() == unknowns &&
-                         given.impulses.allFinite() && given.impulses.cwiseAbs().maxCoeff() > 0.0;
   const double velocity_scale = o.lemke.velocity_scale > 0.0 ? o.lemke.velocity_scale : 1.0;
-  const Eigen::VectorXd guess =
-      has_guess ? StartOf(k, given.impulses, slip.enc.variables) : Eigen::VectorXd();
   const std::vector<char> given_basis = ExpandBasis(k, given.basis, slip.enc.variables);
   const bool rate_form = velocity_scale != 1.0;
-  const std::vector<Run> runs =
-      PlanRuns(!given_basis.empty(), has_guess, rate_form, frictional, o.lemke.box_rate_first);
+  const std::vector<Run> runs = PlanRuns(!given_basis.empty(), rate_form, frictional);
   std::optional<Posed> rate_slip, rate_box;  // the rate form, posed when its first run comes
   auto posed_for = [&](const Run& run) -> Posed& {
     const bool is_box = run.form == ConeForm::kShiftedBox;
@@ -455,12 +384,10 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     if (!lazy) lazy = Pose(k, run.form, velocity_scale);
     return *lazy;
   };
-  std::optional<SolveResult> too_fast;  // the first solution above the velocity bound
   for (const Run& run : runs) {
     const bool perturbed = run.perturbation > 0.0;
     Posed& posed = posed_for(run);
-    lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's start and perturbation are set in place
-    mlcp.start = run.warm ? guess : Eigen::VectorXd();
+    lemke_internal::Mlcp& mlcp = posed.mlcp;  // the run's basis and perturbation are set in place
     mlcp.given_basis = run.basis_only ? given_basis : std::vector<char>();
     mlcp.perturbation = perturbed
                             ? PerturbationOf(k, posed.enc, o, run.perturbation, posed.velocity_unit)
@@ -504,21 +431,7 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
       report.status = exact && residual <= o.tolerance ? SolveStatus::kConverged
                                                        : SolveStatus::kNumericalFailure;
     }
-    if (run.warm) {
-      history += " (start: " + std::to_string(lemke.start_support) + " basic, " +
-                 std::to_string(lemke.start_dropped) + " moves)";
-    }
-    if (report.converged() && AboveVelocityBound(k, result.impulses, o, history)) {
-      // Not the answer: the next run's answer, converged or not, takes its place.
-      if (!too_fast) too_fast = result;
-      result.impulses.resize(0);
-      report.status = SolveStatus::kNumericalFailure;
-    }
     if (report.converged() || pivots >= o.lemke.max_pivots) break;
-  }
-  if (!report.converged() && too_fast) {
-    history += "; no run's solution within the velocity bound: the first one is kept";
-    result = std::move(*too_fast);
   }
   report.iterations = pivots;
   if (!report.converged() && pivots >= o.lemke.max_pivots)

@@ -162,14 +162,10 @@ class Lemke {
     if (!Refactorise()) return Fail(LemkeOutcome::kSingularBasis, "the initial basis is singular");
     if (n_ == 0) return Finish();
     if (!problem_.given_basis.empty()) return SolveGivenBasis();
-    if (problem_.start.size() == n_ && problem_.start.maxCoeff() > 0.0 && !WarmStart()) {
-      return Fail(LemkeOutcome::kSingularBasis, "the warm start's basis is singular");
-    }
     // β = B⁻¹ rhs are the basic values at z₀ = 0, and they rise by B⁻¹d per unit of z₀.
     const Eigen::VectorXd rise = -inverse_.Solve(tab_.Column(tab_.Z0()));
     int row = FirstBlockingRow(rise);
-    if (row == -2)
-      return Fail(LemkeOutcome::kSingularBasis, "the covering vector does not cover the start");
+    if (row == -2) return Fail(LemkeOutcome::kSingularBasis, "the covering vector does not cover");
     if (row < 0) return Finish();
     int entering = tab_.Z0();
     Eigen::VectorXd alpha = -rise;
@@ -197,9 +193,8 @@ class Lemke {
 
  private:
   // The row where z₀ enters: the basic variable that reaches zero last as z₀ decreases
-  // (from +∞ on a cold start, from 1 on a warm one); ties go to the largest index (the
-  // perturbation ε^i is smallest). −1: the basis is already feasible at z₀ = 0; −2: a
-  // negative value that z₀ does not lift (the covering vector is wrong).
+  // from +∞; ties go to the largest index (the perturbation ε^i is smallest). −1: the
+  // basis is already feasible at z₀ = 0; −2: a negative value that z₀ does not lift.
   int FirstBlockingRow(const Eigen::VectorXd& rise) const {
     int row = -1;
     double level = 0.0;
@@ -221,112 +216,6 @@ class Lemke {
     if (Finish().outcome != LemkeOutcome::kSolved) return result_;
     result_.polish_violation = std::max(0.0, -beta_.tail(n_).minCoeff());
     return result_;
-  }
-
-  // Reduces the guess to a basic point and sets the covering vector (lemke_mlcp.hpp).
-  // Components enter the basis largest first, each in place of its complement; one whose
-  // column depends on those already in moves its value onto them along the dependency
-  // (a self-stress: the velocities stay) until it or one of them reaches zero.
-  bool WarmStart() {
-    Eigen::VectorXd z = problem_.start.cwiseMax(0.0);
-    const double floor = 1e-12 * z.maxCoeff();
-    std::vector<int> order;
-    for (int i = 0; i < n_; ++i) {
-      if (z[i] > floor) order.push_back(i);
-      else z[i] = 0.0;
-    }
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return z[a] > z[b]; });
-    std::vector<int> position(tab_.Z0() + 1, -1);
-    for (int pos = 0; pos < tab_.Rows(); ++pos) position[basic_[pos]] = pos;
-    auto exchange = [&](int pos, int var, Eigen::VectorXd column) {
-      position[basic_[pos]] = -1;
-      basic_[pos] = var;
-      position[var] = pos;
-      inverse_.Update(pos, column);
-    };
-    const Eigen::VectorXd diagonal = DiagonalOfM();
-    for (const int j : order) {
-      while (z[j] > 0.0) {
-        Eigen::VectorXd alpha = inverse_.Solve(tab_.Column(tab_.Z(j)));
-        const int at = position[tab_.W(j)];
-        // A column counts as dependent below 1e-6 of its diagonal: dependent columns come
-        // out at up to 1e-8 (round-off of the factorisation), and one accepted at that
-        // level leaves a singular basis. A small pivot is decided on a fresh
-        // factorisation and not left as an update to amplify the next ones' errors.
-        const bool small = std::abs(alpha[at]) < 1e-3 * std::abs(diagonal[j]);
-        if (small && inverse_.Updates() > 0) {
-          if (!Refactorise()) return false;
-          alpha = inverse_.Solve(tab_.Column(tab_.Z(j)));
-        }
-        if (std::abs(alpha[at]) > 1e-6 * std::abs(diagonal[j])) {
-          exchange(at, tab_.Z(j), alpha);
-          if (small && !Refactorise()) return false;
-          break;
-        }
-        // Lowering z_j by θ raises the basic values by θα; the basic z stay ≥ 0.
-        double theta = z[j];
-        int limit = -1;
-        for (int pos = nf_; pos < tab_.Rows(); ++pos) {
-          const int var = basic_[pos];
-          if (var < tab_.Z(0) || alpha[pos] >= 0.0) continue;
-          const double reach = z[var - tab_.Z(0)] / -alpha[pos];
-          if (reach < theta) theta = reach, limit = pos;
-        }
-        z[j] -= theta;
-        for (int pos = nf_; pos < tab_.Rows(); ++pos) {
-          const int var = basic_[pos];
-          if (var >= tab_.Z(0))
-            z[var - tab_.Z(0)] = std::max(0.0, z[var - tab_.Z(0)] + theta * alpha[pos]);
-        }
-        ++result_.start_dropped;
-        if (limit < 0) {
-          z[j] = 0.0;
-          break;
-        }
-        const int out = basic_[limit] - tab_.Z(0);
-        z[out] = 0.0;
-        Eigen::VectorXd column = inverse_.Solve(tab_.Column(tab_.W(out)));
-        if (std::abs(column[limit]) < 1e-12) return false;
-        exchange(limit, tab_.W(out), std::move(column));
-      }
-      if (inverse_.Updates() >= kRefactorInterval && !Refactorise()) return false;
-    }
-    for (int pos = nf_; pos < tab_.Rows(); ++pos) result_.start_support += basic_[pos] >= tab_.Z(0);
-    SetCoveringFrom(z);
-    return Refactorise();
-  }
-
-  // d = w̄ − w(z̄): w̄ = 0 where z is basic, elsewhere w itself or, where w is below τ,
-  // τ (the largest |w| that the basic rows carry: the size of the perturbation).
-  void SetCoveringFrom(const Eigen::VectorXd& z) {
-    const Eigen::VectorXd x = problem_.x0 + problem_.p * z;
-    const Eigen::VectorXd w = problem_.d * x + problem_.e_matrix * z + problem_.e;
-    std::vector<char> z_basic(n_, 0);
-    for (int pos = nf_; pos < tab_.Rows(); ++pos) {
-      if (basic_[pos] >= tab_.Z(0)) z_basic[basic_[pos] - tab_.Z(0)] = 1;
-    }
-    double tau = 0.0;
-    for (int i = 0; i < n_; ++i) {
-      if (z_basic[i]) tau = std::max(tau, std::abs(w[i]));
-    }
-    tau = tau > 0.0                                       ? tau
-          : w.size() > 0 && w.cwiseAbs().maxCoeff() > 0.0 ? 1e-12 * w.cwiseAbs().maxCoeff()
-                                                          : 1.0;
-    Eigen::VectorXd d(n_);
-    for (int i = 0; i < n_; ++i) d[i] = z_basic[i] ? -w[i] : std::max(w[i], tau) - w[i];
-    tab_.SetCovering(d);
-  }
-
-  // M = D P + E, the LCP matrix once the free variables are eliminated; only its diagonal
-  // is formed (M itself is dense under a pressure bath).
-  Eigen::VectorXd DiagonalOfM() const {
-    const Eigen::SparseMatrix<double, Eigen::RowMajor> d_rows = problem_.d;
-    Eigen::VectorXd diagonal = problem_.e_matrix.diagonal();
-    for (int j = 0; j < n_; ++j) {
-      for (SparseMatrix::InnerIterator it(problem_.p, j); it; ++it)
-        diagonal[j] += d_rows.coeff(j, it.row()) * it.value();
-    }
-    return diagonal;
   }
 
   // Zobrist keys (splitmix64 of the variable's index): the basis's hash is the XOR of the

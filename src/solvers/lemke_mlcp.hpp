@@ -21,17 +21,6 @@
 // another tolerance (lemke.cpp). A cycle is detected when a basis keeps coming back
 // (a 64-bit hash of the set of basic variables, updated at every pivot), so that a cycling
 // path stops soon instead of running to the pivot limit.
-// Warm start (Mlcp::start, a guess z* ≥ 0, e.g. the static impulses of the state being
-// perturbed). The guess is first reduced to a basic point: moving along dependencies
-// among the columns of its support (self-stresses: the velocities x do not change), the
-// smallest components are zeroed until the support is independent. The covering vector
-// is then d = w̄ − (D x̄ + E z̄ + e), with w̄ = 0 on the rows of the support and w̄ > 0
-// elsewhere, so that at z₀ = 1 the reduced guess is the solution of the complementary
-// basis of its support. Lemke's path from there, z₀ from 1 to 0, is the homotopy from
-// that problem to the given one: it follows the guess's active set and changes it only
-// where the perturbation requires, and it ends on the solution continuous with the
-// guess rather than on the one reached from zero impulses.
-//
 // Perturbed right-hand side (Mlcp::perturbation, small and generic, e.g. pseudo-random).
 // The lexicographic rule is the limit ε → 0 of e + (ε, ε², …), and in floating point its
 // ties must be told from round-off; a finite generic perturbation instead makes the
@@ -63,7 +52,6 @@ struct Mlcp {
   Eigen::SparseMatrix<double> d;         // n × nf
   Eigen::SparseMatrix<double> e_matrix;  // n × n, the E above
   Eigen::VectorXd e;                     // n
-  Eigen::VectorXd start;                 // n or empty: a warm start z* ≥ 0 (above)
   Eigen::VectorXd perturbation;  // n or empty: the path is followed for e + perturbation (below)
   // n or empty: a complementary basis (1: z_i basic, 0: w_i basic), e.g. the final basis
   // of a nearby problem's answer. If given, there is no path: that basis is solved for
@@ -85,8 +73,6 @@ struct LemkeResult {
   Eigen::VectorXd z;  // complementary variables
   int pivots = 0;
   int factorisations = 0;
-  int start_support = 0;          // warm start: complementary variables of the reduced guess
-  int start_dropped = 0;          //   and those of the guess zeroed to reach it
   double polish_violation = 0.0;  // perturbed runs: −min of the basic values without the
                                   // perturbation, or 0 (given_basis: −min of that basis's values)
   std::vector<char> z_basic;  // solved: per complementary variable, 1 if z_i is in the final basis

@@ -101,8 +101,6 @@ void LemkeParameters::Validate() const {
   if (max_pivots < 0) Reject("lemke.max_pivots", max_pivots, "must be >= 0");
   if (!(velocity_scale >= 0.0) || !std::isfinite(velocity_scale))
     Reject("lemke.velocity_scale", velocity_scale, "must be a finite number >= 0");
-  if (!(velocity_bound >= 0.0) || !std::isfinite(velocity_bound))
-    Reject("lemke.velocity_bound", velocity_bound, "must be a finite number >= 0");
   if (pivots_per_row < 0) Reject("lemke.pivots_per_row", pivots_per_row, "must be >= 0");
 }
 

@@ -94,38 +94,6 @@ TEST(LemkePerturbed, ABasisThatOnlyThePerturbationMadeFeasibleIsReported) {
   EXPECT_NEAR(r.polish_violation, 1e-7, 1e-20);
 }
 
-TEST(LemkeWarmStart, FromAWrongGuessStillEndsOnTheUniqueSolution) {
-  Mlcp p = Lcp(Dense(2, 2, {2, 1, 1, 2}), Eigen::Vector2d(-5, -6));
-  p.start = Eigen::Vector2d(0.0, 5.0);
-  const auto r = SolveMlcp(p, 100, 1e-16);
-  ASSERT_EQ(r.outcome, LemkeOutcome::kSolved) << r.message;
-  EXPECT_NEAR(r.z[0], 4.0 / 3.0, 1e-14);
-  EXPECT_NEAR(r.z[1], 7.0 / 3.0, 1e-14);
-  EXPECT_EQ(r.start_support, 1);
-}
-
-TEST(LemkeWarmStart, ADependentGuessIsReducedToABasisAlongItsSelfStress) {
-  // Two identical contacts hold one free velocity: x = −1 + z₁ + z₂, w₁ = w₂ = x. Any
-  // z₁ + z₂ = 1 solves it; the guess (0.6, 0.4) is a solution whose support is dependent.
-  // The smaller component moves onto the larger one (x does not change), which leaves the
-  // basic solution (1, 0) and no pivot to make.
-  Mlcp p;
-  p.p = Dense(1, 2, {1, 1});
-  p.x0 = Eigen::VectorXd::Constant(1, -1.0);
-  p.d = Dense(2, 1, {1, 1});
-  p.e_matrix = Dense(2, 2, {0, 0, 0, 0});
-  p.e = Eigen::Vector2d::Zero();
-  p.start = Eigen::Vector2d(0.6, 0.4);
-  const auto r = SolveMlcp(p, 100, 1e-16);
-  ASSERT_EQ(r.outcome, LemkeOutcome::kSolved) << r.message;
-  EXPECT_EQ(r.pivots, 0);
-  EXPECT_EQ(r.start_support, 1);
-  EXPECT_EQ(r.start_dropped, 1);
-  EXPECT_NEAR(r.z[0], 1.0, 1e-15);
-  EXPECT_EQ(r.z[1], 0.0);
-  EXPECT_NEAR(r.x[0], 0.0, 1e-15);
-}
-
 // A given basis (Mlcp::given_basis): the basis of an answer, carried to a nearby problem
 // and solved as it is. It gives that problem's solution where it stays feasible (both
 // components of the SPD example, for a right-hand side twice as large), reports by how

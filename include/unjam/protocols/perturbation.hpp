@@ -82,19 +82,6 @@ struct PerturbationOptions {
   // Pick the member of the step's family of solutions nearest the static forces among
   // those with the answer's motion pattern (StaticSolveOptions::nearest_member).
   bool nearest_member = false;
-  // Of the step's solutions, prefer a quasi-static one: lemke's runs go on past a solution
-  // in which some grain moves fast enough to make the step dynamic (max_inertia_ratio, for
-  // the lightest grain), and the first solution below that speed is reported
-  // (SolverOptions::lemke.velocity_bound). Off by default: it costs every run of lemke on
-  // a step that has no quasi-static solution (docs/perturbations.md, "At μ = 1").
-  bool prefer_quasi_static = false;
-  // Before solving, an LP over the impulses alone (problem/inertia_bound.hpp) bounds from
-  // below the largest inertial force that any answer of the step has. Where that bound is
-  // above 10 max_inertia_ratio, the perturbation is `dynamic` and no solver runs (F_crit
-  // NaN, no motion: docs/perturbations.md, "Dynamic before solving"). Off by default: the
-  // solvers resolve most dynamic steps and report their motion, and on the N = 3000
-  // packing the LP decides only the openings newton resolves as dynamic, more slowly.
-  bool dynamic_precheck = false;
 };
 void Validate(const PerturbationOptions& options);  // throws std::invalid_argument
 double DetectionMargin(const PerturbationOptions& options);
@@ -181,15 +168,13 @@ struct PerturbationResult {
   // "ok"; "dynamic" (resolved, not quasi-static); "not-converged" (not resolved);
   // "nonlinear" (quasi-static, but not the same response at 10ξ: check_linearity);
   // "blocked" (no motion satisfies the step's non-penetration: F_crit is NaN;
-  // problem/kinematic_admissibility.hpp). A `dynamic` decided before solving
-  // (dynamic_precheck) has F_crit NaN, no motion, and its inertia_ratio is the LP's lower
-  // bound.
+  // problem/kinematic_admissibility.hpp). A `dynamic` decided before solving (the rate
+  // solve's static LP) has F_crit NaN and no motion.
   PerturbationStatus status = PerturbationStatus::kNotConverged;
   double seconds = 0.0;
 };
 
-struct OpeningInertiaLp;  // perturbation.cpp
-struct RateBaseSlot;      // perturbation.cpp
+struct RateBaseSlot;  // perturbation.cpp
 
 // The static packing a set of perturbations starts from: the scene at rest with its
 // stored forces (which must be static: checked once, see PreparePerturbations).
@@ -201,10 +186,6 @@ struct PerturbationBase {
   double pressure = 0.0;  // virial pressure of the static forces (periodic)
   double mean_radius = 0.0;
   double mean_mass = 0.0;  // of the free particles
-  // With dynamic_precheck: the inertia LP of the unperturbed step, which every contact
-  // opening continues (problem/inertia_bound.hpp, HeldContactInertia); solved by the first
-  // opening that needs it, shared by all.
-  std::shared_ptr<OpeningInertiaLp> opening_inertia_lp;
   // The unperturbed step in the coordinates of the rate problem (its self-stresses: a
   // sparse QR), made by the first perturbation that needs it, shared by all.
   std::shared_ptr<RateBaseSlot> rate;

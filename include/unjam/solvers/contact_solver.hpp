@@ -128,9 +128,6 @@ struct NloptParameters {
 struct LemkeParameters {
   // Pivots over all its runs.
   int max_pivots = 100000;
-  // First follow the homotopy from the guess (SolverGuess::impulses, lemke_mlcp.hpp), then the
-  // cold path from zero impulses. Experimental: off by default.
-  bool warm_start = false;
   // The velocity scale of the answer, which sizes the perturbed runs' perturbation
   // (lemke.cpp); 0: the largest |velocity offset| of the problem. A perturbation sets ξ/Δt.
   double velocity_scale = 0.0;
@@ -138,15 +135,6 @@ struct LemkeParameters {
   // is tried (all runs together stay within max_pivots); 0: 20, and 200 in the rate form
   // (lemke.cpp).
   int pivots_per_row = 0;
-  // In the rate form (a perturbation step, velocity_scale set), on frictional problems:
-  // the box-form path is tried before the plain and slip-speed ones (lemke.cpp).
-  bool box_rate_first = false;
-  // A solution in which some free velocity exceeds this bound (in the step's own units;
-  // 0: no bound) is not reported at once. The remaining runs are tried, and the first
-  // solution within the bound is reported; if none comes, the first solution found. A
-  // perturbation sets it to the speed above which its step is dynamic, so that of the
-  // step's solutions a quasi-static one is preferred where a run finds one (lemke.cpp).
-  double velocity_bound = 0.0;
   void Validate() const;  // as NsgsParameters::Validate
 };
 
