@@ -67,10 +67,15 @@ const RateBase& RateBaseOf(const PerturbationBase& base, const PerturbationOptio
 
 std::string PathAccount(const RatePathResult& path) {
   char text[200];
-  std::snprintf(text, sizeof text, "rate path: %s after %d events, %d turns%s%s",
-                ToString(path.end), path.events, path.turns, path.message.empty() ? "" : ", ",
-                path.message.c_str());
-  return text;
+  std::snprintf(text, sizeof text, "rate path: %s after %d events, %d turns", ToString(path.end),
+                path.events, path.turns);
+  std::string account = text;
+  if (path.free_mechanism_pieces > 0)
+    account += ", " + std::to_string(path.free_mechanism_pieces) + " beside free mechanisms";
+  if (path.pieces_oriented_by_t > 0)
+    account += ", " + std::to_string(path.pieces_oriented_by_t) + " oriented by t";
+  if (!path.message.empty()) account += ", " + path.message;
+  return account;
 }
 
 std::string FormatResidual(double residual) {

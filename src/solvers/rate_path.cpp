@@ -53,6 +53,9 @@ bool MovesNoForce(double dalpha_norm, double dt) {
 constexpr int kRefactorAfter = 200;
 constexpr double kDoubtfulDiagonal = 1e-8;
 constexpr double kKernelResidual = 1e-11;
+// A kernel direction that moves α and t by less than this (per unit length) is a free
+// mechanism: round-off gives 1e-13 and less, a loading direction 1e-6 and more.
+constexpr double kFreeMechanism = 1e-10;
 
 // A number of the perturbed problem, v₀ + ε v₁ for an infinitesimal ε > 0: every bound of
 // the contact law is moved outward by ε times a weight (distinct for every bound), which
@@ -378,7 +381,7 @@ class PathFollower {
 
   // The same by a pivoted factorisation of K, with its rank decided. Where it is lost, the
   // kernel has more than one direction: false unless one of them is a collapse piece.
-  bool PivotedDirection(Eigen::VectorXd& dir) const {
+  bool PivotedDirection(Eigen::VectorXd& dir) {
     const Eigen::Index m = epg_.rows();
     Eigen::MatrixXd k(m, m + 1);
     k << epg_.view(), ed_;
@@ -388,8 +391,27 @@ class PathFollower {
     const Eigen::Index nullity = m + 1 - qr.rank();
     const Eigen::MatrixXd kernel =
         qr.householderQ() * Eigen::MatrixXd::Identity(m + 1, m + 1).rightCols(nullity);
-    if (nullity > 1) return CollapseInKernel(kernel, dir);
+    if (nullity > 1) return CollapseInKernel(kernel, dir) || BesideFreeMechanisms(kernel, dir);
     dir = kernel.col(0);
+    return true;
+  }
+
+  // A kernel whose other directions are free mechanisms (neither the forces nor t move: a
+  // grain spinning with every contact sliding): the one direction orthogonal to them. Any
+  // amount of such a motion leaves the forces as they are, so the path may fix it (a gauge);
+  // the step solved on the final pattern sets the grains' actual velocities.
+  bool BesideFreeMechanisms(const Eigen::MatrixXd& kernel, Eigen::VectorXd& dir) {
+    const Eigen::Index m = kernel.rows() - 1;
+    Eigen::MatrixXd moves(dims_ + 1, kernel.cols());  // dα and dt per column
+    moves.topRows(dims_) = pg_.view() * kernel.topRows(m) + direction_ * kernel.row(m);
+    moves.row(dims_) = kernel.row(m);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(moves, Eigen::ComputeFullV);
+    const Eigen::VectorXd& sigma = svd.singularValues();
+    Eigen::Index moving = 0;  // the columns of V whose motion moves forces or t
+    while (moving < sigma.size() && sigma[moving] > kFreeMechanism) ++moving;
+    if (moving != 1) return false;
+    dir = (kernel * svd.matrixV().col(0)).normalized();
+    ++free_mechanism_pieces_;
     return true;
   }
 
@@ -423,7 +445,8 @@ class PathFollower {
     int oriented_contact = -1;
     double last_dt = 1.0;
     for (;;) {
-      if (out.events >= options_.max_events) return RatePathEnd::kStalled;
+      if (out.events >= options_.max_events || out.work >= options_.max_work)
+        return RatePathEnd::kStalled;
       if (!seen_.insert(StateHash()).second && out.events > 0) return RatePathEnd::kCycle;
       UpdateSystem();
       Eigen::VectorXd dir;
@@ -431,7 +454,13 @@ class PathFollower {
       const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
       Eigen::VectorXd dalpha = pg_.view() * dir.head(m) + dir[m] * direction_;
       if (MovesNoForce(dalpha.norm(), dir[m])) dalpha.setZero();
-      const double sign = Orient(orient, oriented_contact, dir, dalpha);
+      double sign = Orient(orient, oriented_contact, dir, dalpha);
+      // Where the quantity the event released does not move on the piece (beside a free
+      // mechanism, which moved it), the piece goes on as t grows.
+      if (sign == 0.0 && std::abs(dir[m]) > kRateTolerance) {
+        sign = dir[m] > 0.0 ? 1.0 : -1.0;
+        ++out.pieces_oriented_by_t;
+      }
       if (sign == 0.0) return RatePathEnd::kSingular;
       dir *= sign;
       dalpha *= sign;
@@ -465,6 +494,8 @@ class PathFollower {
       f1_ += next.step.v1 * df;
       if (next.kind == EventKind::kParameterLimit) return RatePathEnd::kCollapse;
       ++out.events;
+      out.work += static_cast<double>(p_.basis.rows()) * static_cast<double>(dims_) +
+                  static_cast<double>(m) * static_cast<double>(m);
       Apply(next, orient, oriented_contact);
     }
   }
@@ -672,6 +703,7 @@ class PathFollower {
     out.message = message;
     out.alpha = end == RatePathEnd::kCollapse ? PolishedAlpha() : alpha0_;
     out.t = t_.v0;
+    out.free_mechanism_pieces = free_mechanism_pieces_;
     out.states = state_;
     out.rates.assign(state_.size(), Eigen::Vector2d::Zero());
     out.alpha_rate = Eigen::VectorXd::Zero(dims_);
@@ -698,6 +730,7 @@ class PathFollower {
   std::vector<Lex> apex_plus_, apex_minus_;  // associated law at the apex: the two edges' flows
   std::vector<Weights> weights_;
   bool associated_ = false;
+  int free_mechanism_pieces_ = 0;
   double weight_scale_ = 1.0;
   UnknownKind oriented_kind_ = UnknownKind::kSlip;
   // The linear system of the current piece, kept up to date unknown by unknown.

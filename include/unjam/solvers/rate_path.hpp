@@ -67,7 +67,7 @@ enum class RatePathEnd {
   kFixedCollapse,  // a mechanism grows with t fixed: the packing gives way elsewhere
   kBack,           // the path returned to t = 0
   kCycle,          // a state came back
-  kStalled,        // event limit
+  kStalled,        // work or event limit (RatePathOptions)
   kSingular,       // a piece's linear system lost rank
 };
 const char* ToString(RatePathEnd end);
@@ -79,15 +79,25 @@ struct RatePathResult {
   // Per contact, the plastic velocity of the last piece per unit t (the mechanism per unit
   // perturbation at a collapse): (normal opening, tangential slip).
   std::vector<Eigen::Vector2d> rates;
-  Eigen::VectorXd alpha_rate;  // dα/dt on the last piece
-  double t = 0.0;              // where the path ended
-  int events = 0;              // state changes
-  int turns = 0;               // reversals of t
+  Eigen::VectorXd alpha_rate;     // dα/dt on the last piece
+  double t = 0.0;                 // where the path ended
+  int events = 0;                 // state changes
+  double work = 0.0;              // multiply-adds of its pieces, as RatePathOptions counts them
+  int turns = 0;                  // reversals of t
+  int free_mechanism_pieces = 0;  // pieces taken beside free mechanisms (a spinning grain)
+  int pieces_oriented_by_t = 0;   // pieces on which the released quantity did not move
   std::string message;
 };
 
+// A path ends `stalled` when its work or its events reach these limits. An event costs
+// about rows(S) × D + m² multiply-adds (the forces' change S dα, the QR update; m the
+// unknowns of the piece): the work limit is about 6 000 events of the 1600-disk pile at
+// μ = 0.1 (S 5 840 × 1 057, m ≈ 800; a minute or so; its bottom shift 387 collapses after
+// 5 042), where a cheaper path may take more events, e.g. 35 000 on the μ = 1 pile (S about
+// 5 000 × 200). Both limits are fixed counts, so a path ends the same way on every machine.
 struct RatePathOptions {
-  int max_events = 5000;
+  double max_work = 4e10;
+  int max_events = 200000;
 };
 
 RatePathResult FollowRatePath(const RateProblem& problem, const RatePathOptions& options = {});
