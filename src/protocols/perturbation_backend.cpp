@@ -1,6 +1,4 @@
 // Which backend solves a perturbation's step, and with which options.
-#include <algorithm>
-#include <limits>
 #include <string>
 
 #include "perturbation_internal.hpp"

@@ -51,12 +51,8 @@ class Tableau {
     rhs_.resize(Rows());
     rhs_ << p.x0, p.e;
     if (p.perturbation.size() == n_) rhs_.tail(n_) += p.perturbation;
-    SetCovering(Eigen::VectorXd::Ones(n_));
-  }
-  // z₀'s column is −d on the complementarity rows.
-  void SetCovering(const Eigen::VectorXd& d) {
     z0_column_ = Eigen::VectorXd::Zero(Rows());
-    z0_column_.tail(n_) = -d;
+    z0_column_.tail(n_).setConstant(-1.0);  // covering vector 1
   }
   int Rows() const { return nf_ + n_; }
   int Z0() const { return nf_ + 2 * n_; }

@@ -391,21 +391,29 @@ class PathFollower {
     const Eigen::Index nullity = m + 1 - qr.rank();
     const Eigen::MatrixXd kernel =
         qr.householderQ() * Eigen::MatrixXd::Identity(m + 1, m + 1).rightCols(nullity);
-    if (nullity > 1) return CollapseInKernel(kernel, dir) || BesideFreeMechanisms(kernel, dir);
-    dir = kernel.col(0);
-    return true;
+    if (nullity <= 1) {
+      dir = kernel.col(0);
+      return true;
+    }
+    const Eigen::MatrixXd moves = ForceMoves(kernel);
+    return CollapseInKernel(kernel, moves, dir) || BesideFreeMechanisms(kernel, moves, dir);
+  }
+
+  // dα per kernel column (variables u₁ … u_m, t).
+  Eigen::MatrixXd ForceMoves(const Eigen::MatrixXd& kernel) const {
+    const Eigen::Index m = kernel.rows() - 1;
+    return pg_.view() * kernel.topRows(m) + direction_ * kernel.row(m);
   }
 
   // A kernel whose other directions are free mechanisms (neither the forces nor t move: a
   // grain spinning with every contact sliding): the one direction orthogonal to them. Any
   // amount of such a motion leaves the forces as they are, so the path may fix it (a gauge);
   // the step solved on the final pattern sets the grains' actual velocities.
-  bool BesideFreeMechanisms(const Eigen::MatrixXd& kernel, Eigen::VectorXd& dir) {
-    const Eigen::Index m = kernel.rows() - 1;
-    Eigen::MatrixXd moves(dims_ + 1, kernel.cols());  // dα and dt per column
-    moves.topRows(dims_) = pg_.view() * kernel.topRows(m) + direction_ * kernel.row(m);
-    moves.row(dims_) = kernel.row(m);
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(moves, Eigen::ComputeFullV);
+  bool BesideFreeMechanisms(const Eigen::MatrixXd& kernel, const Eigen::MatrixXd& moves,
+                            Eigen::VectorXd& dir) {
+    Eigen::MatrixXd motion(dims_ + 1, kernel.cols());  // dα and dt per column
+    motion << moves, kernel.row(kernel.rows() - 1);
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(motion, Eigen::ComputeFullV);
     const Eigen::VectorXd& sigma = svd.singularValues();
     Eigen::Index moving = 0;  // the columns of V whose motion moves forces or t
     while (moving < sigma.size() && sigma[moving] > kFreeMechanism) ++moving;
@@ -419,11 +427,10 @@ class PathFollower {
   // combination that moves no force, where it moves t, is a collapse piece: a second
   // mechanism formed beside the one the path was growing, as on the 1600-disk pile, where
   // the path then ends exactly (lemke's F_crit). A combination that moves neither (a grain
-  // spinning with every contact sliding) leaves the path undecided.
-  bool CollapseInKernel(const Eigen::MatrixXd& kernel, Eigen::VectorXd& dir) const {
+  // spinning with every contact sliding) is a free mechanism (BesideFreeMechanisms).
+  bool CollapseInKernel(const Eigen::MatrixXd& kernel, const Eigen::MatrixXd& moves,
+                        Eigen::VectorXd& dir) const {
     const Eigen::Index m = kernel.rows() - 1;
-    const Eigen::MatrixXd moves =
-        pg_.view() * kernel.topRows(m) + direction_ * kernel.row(m);  // dα per column
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(moves, Eigen::ComputeFullV);
     const Eigen::Index last = kernel.cols() - 1;
     const double least = last < svd.singularValues().size() ? svd.singularValues()[last] : 0.0;
@@ -455,11 +462,11 @@ class PathFollower {
       Eigen::VectorXd dalpha = pg_.view() * dir.head(m) + dir[m] * direction_;
       if (MovesNoForce(dalpha.norm(), dir[m])) dalpha.setZero();
       double sign = Orient(orient, oriented_contact, dir, dalpha);
-      // Where the quantity the event released does not move on the piece (beside a free
-      // mechanism, which moved it), the piece goes on as t grows.
+      // Where the quantity the event released does not move on the piece (e.g. beside a
+      // free mechanism, which moved it), the piece goes on as t grows.
       if (sign == 0.0 && std::abs(dir[m]) > kRateTolerance) {
         sign = dir[m] > 0.0 ? 1.0 : -1.0;
-        ++out.pieces_oriented_by_t;
+        ++pieces_oriented_by_t_;
       }
       if (sign == 0.0) return RatePathEnd::kSingular;
       dir *= sign;
@@ -704,6 +711,7 @@ class PathFollower {
     out.alpha = end == RatePathEnd::kCollapse ? PolishedAlpha() : alpha0_;
     out.t = t_.v0;
     out.free_mechanism_pieces = free_mechanism_pieces_;
+    out.pieces_oriented_by_t = pieces_oriented_by_t_;
     out.states = state_;
     out.rates.assign(state_.size(), Eigen::Vector2d::Zero());
     out.alpha_rate = Eigen::VectorXd::Zero(dims_);
@@ -730,7 +738,8 @@ class PathFollower {
   std::vector<Lex> apex_plus_, apex_minus_;  // associated law at the apex: the two edges' flows
   std::vector<Weights> weights_;
   bool associated_ = false;
-  int free_mechanism_pieces_ = 0;
+  int free_mechanism_pieces_ = 0;  // RatePathResult's counts, over every phase
+  int pieces_oriented_by_t_ = 0;
   double weight_scale_ = 1.0;
   UnknownKind oriented_kind_ = UnknownKind::kSlip;
   // The linear system of the current piece, kept up to date unknown by unknown.
