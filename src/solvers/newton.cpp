@@ -41,6 +41,7 @@
 #include "newton.hpp"
 #include "matrix_form.hpp"
 #include "nsgs.hpp"
+#include "sparse_lu.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -204,8 +205,6 @@ constexpr double kSubproblemReduction = 1e-3;  // a subproblem is solved when θ
 constexpr int kStallIterations = 15;  // Newton iterations without halving the best residual
 constexpr int kProbeIterations = 30;  // Newton iterations of the probe from a warm start
 constexpr int kMaxRounds = 4;         // NSGS warm-up + Newton rounds
-constexpr Eigen::Index kMetisRows =
-    10000;  // Newton systems at least this large are ordered by METIS
 
 struct Iterate {
   Eigen::VectorXd impulses;
@@ -282,10 +281,7 @@ class NewtonPhase {
   bool Direction(const Evaluation& eval, double epsilon, Eigen::VectorXd& step) {
     const SparseMatrix k = NewtonMatrix(op_, eval.local, epsilon);
     if (!analysed_) {
-      // METIS's fill-reducing order factorises large systems several times faster than
-      // UMFPACK's default (AMD); below the threshold the default stays, and with it the
-      // pivot order and the bits of every smaller solve (docs/performance.md).
-      if (k.rows() >= kMetisRows) lu_.umfpackControl()(UMFPACK_ORDERING) = UMFPACK_ORDERING_METIS;
+      solvers_internal::ChooseOrdering(lu_, k.rows(), solvers_internal::kNewtonMetisRows);
       lu_.analyzePattern(k);
       analysed_ = true;
     }

@@ -1,4 +1,5 @@
 #include "unjam/solvers/pattern_polish.hpp"
+#include "sparse_lu.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -101,7 +102,9 @@ SolveResult SolveOnStates(const ContactProblem& p, const StepParts& parts,
   Eigen::SparseMatrix<double> system(dofs + comps, dofs + comps);
   system.setFromTriplets(a.begin(), a.end());
   SolveResult out;
-  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu(system);
+  Eigen::UmfPackLU<Eigen::SparseMatrix<double>> lu;
+  solvers_internal::ChooseOrdering(lu, system.rows(), solvers_internal::kPatternMetisRows);
+  lu.compute(system);
   if (lu.info() != Eigen::Success) {
     out.impulses = impulses;
     out.report.status = SolveStatus::kNumericalFailure;
