@@ -201,14 +201,19 @@ SolveResult SolveOnPattern(const ContactProblem& p, const Eigen::VectorXd& impul
                            int rounds) {
   SolveResult out = SolveOnStates(p, impulses, states);
   SolveResult best = out;
+  int since_best = 0;
   // An answer at round-off is exact: corrections would act on contacts that break their law
   // by rounding only, and can lead away from it.
   for (int round = 0;
-       round < rounds && out.report.converged() && out.report.residual > kRoundOffResidual &&
-       CorrectStates(p, out, frozen, states);
+       round < rounds && since_best < kPatternStallRounds && out.report.converged() &&
+       out.report.residual > kRoundOffResidual && CorrectStates(p, out, frozen, states);
        ++round) {
     out = SolveOnStates(p, impulses, states);
-    if (out.report.converged() && out.report.residual < best.report.residual) best = out;
+    ++since_best;
+    if (out.report.converged() && out.report.residual < best.report.residual) {
+      best = out;
+      since_best = 0;
+    }
   }
   return best;
 }
