@@ -11,7 +11,7 @@ namespace unjam::solvers_internal {
 // factors fill in several times less than with UMFPACK's default (AMD/COLAMD), but its
 // ordering costs more. Newton analyses once per solve and factorises at every iteration:
 // METIS from 10 000 rows (1.6× faster at N = 3000). The pattern solve analyses every system
-// anew: METIS from 15 000 rows (2.2× faster at N = 3000, 2.7× at N = 8000; 1.4× slower on the
+// anew: METIS from 15 000 rows (1.9× faster at N = 3000, 2–2.7× at N = 8000; 1.4× slower on the
 // 1600-disk pile, 11 000 rows, which AMD orders well). Below a threshold the default stays,
 // and with it the pivot order and the bits of every smaller solve (docs/performance.md).
 constexpr Eigen::Index kNewtonMetisRows = 10000;
