@@ -173,7 +173,9 @@ Refinement RefineStaticForces(const Scene& state, const std::vector<ContactForce
   double previous = std::numeric_limits<double>::infinity();
   while (out.sweeps < o.refine_max_iterations) {
     const int chunk = std::min(kRefineChunk, o.refine_max_iterations - out.sweeps);
-    const StaticSolution s = SolveStatic(start, StaticOptions(o, chunk));
+    StaticSolveOptions solve = StaticOptions(o, chunk);
+    solve.polish_reach = kRefinePolishReach;
+    const StaticSolution s = SolveStatic(start, solve);
     out.sweeps += s.report.iterations;
     start.forces = ToContactForces(s);
     // A converged step in which a grain still falls (an exact one: the polish on its

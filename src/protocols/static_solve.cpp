@@ -112,7 +112,8 @@ StaticSolution SolveStatic(const Scene& scene, StaticProblem posed,
                            const StaticSolveOptions& options) {
   const ContactProblem& p = posed.assembled.problem;
   SolveResult result = MakeSolver(options.backend)->Solve(p, options.solver, posed.guess);
-  result = PolishOnPattern(p, result, options.solver.tolerance);
+  if (result.report.residual <= options.polish_reach * options.solver.tolerance)
+    result = PolishOnPattern(p, result, options.solver.tolerance);
   if (options.nearest_member) SelectNearestMember(p, posed.guess, options, result);
   return SolutionOf(scene, std::move(posed), result, options.dt);
 }

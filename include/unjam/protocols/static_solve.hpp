@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,11 @@ struct StaticSolveOptions {
   // where one exists and meets the tolerance. The rule that picks one member of a step's
   // family of solutions (docs/perturbations.md, "Which member").
   bool nearest_member = false;
+  // The backend's answer is solved exactly on its contact pattern (PolishOnPattern) only
+  // where its residual is within this factor of the tolerance: farther off, its pattern is
+  // not the answer's, and the pattern solve, the costliest part of a static solve at
+  // N ≥ 3 000, is wasted (RefineStaticForces' chunks).
+  double polish_reach = std::numeric_limits<double>::infinity();
 };
 
 struct StaticSolution {
