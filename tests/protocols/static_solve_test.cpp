@@ -96,6 +96,24 @@ TEST(StaticSolve, VerticalStackCarriesCumulativeWeights) {
   }
 }
 
+// A few sweeps leave a stack's forces far from converged. Solved on their contact pattern
+// (every contact sticking) they become exact; with the polish limited to answers within
+// a factor of the tolerance, the backend's own answer stays, reported as not converged.
+TEST(StaticSolve, PolishReachLimitsThePatternSolve) {
+  const int k = 8;
+  const Scene s = testing::Stack(k, 0.5, 1.0, 0.3);
+  StaticSolveOptions o = Tight();
+  o.solver.SetIterationLimit(20);
+  const StaticSolution polished = SolveStatic(s, o);
+  ASSERT_TRUE(polished.report.converged()) << polished.report.message;
+  const double w = s.particles[0].Mass();
+  EXPECT_NEAR(NormalForceBetween(polished, 0, 1), w * (k - 1), 1e-9 * k * w);
+  o.polish_reach = 10.0;
+  const StaticSolution raw = SolveStatic(s, o);
+  EXPECT_FALSE(raw.report.converged());
+  EXPECT_GT(raw.report.residual, o.polish_reach * kTol);
+}
+
 TEST(StaticSolve, FrictionlessTriangularLatticeUnderPressureObeysTheVirial) {
   const double r = 0.5;
   const double pressure = 3.0;
