@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 
+#include "check_records.hpp"
 #include "command_solve.hpp"
 #include "output_paths.hpp"
 #include "unjam/io/output_lock.hpp"
@@ -99,25 +100,6 @@ std::string Csv(const std::vector<StabilityRow>& rows) {
   return os.str();
 }
 
-nlohmann::json Json(const StabilityRow& r) {
-  return {{"case", r.name},
-          {"backend", r.backend},
-          {"contacts", r.contacts},
-          {"status", ToString(r.report.status)},
-          {"residual", NumberOrNull(r.report.residual)},
-          {"siconos_error", NumberOrNull(r.siconos_error)},
-          {"equilibrium", NumberOrNull(r.equilibrium)},
-          {"finite", r.finite},
-          {"reproducible", r.reproducible},
-          {"steps", r.steps},
-          {"max_overlap", NumberOrNull(r.max_overlap)},
-          {"overlap_growth", NumberOrNull(r.overlap_growth)},
-          {"energy_change", NumberOrNull(r.energy_change)},
-          {"seconds", r.report.seconds},
-          {"verdict", ToString(r.verdict)},
-          {"message", r.message}};
-}
-
 void PrintRow(std::FILE* out, const StabilityRow& r) {
   std::fprintf(out, "%-30s %-7s %6d %-17s %9.2e %9.2e %9.2e %6d %9.2e %9.2e %8.3f  %s%s%s\n",
                r.name.c_str(), r.backend.c_str(), r.contacts, ToString(r.report.status),
@@ -126,11 +108,73 @@ void PrintRow(std::FILE* out, const StabilityRow& r) {
                r.message.empty() ? "" : ": ", r.message.substr(0, 90).c_str());
 }
 
+// What makes two runs of `check -o DIR` the same, so that a rerun may take the records back.
+nlohmann::json CheckHeader(const CheckFlags& f, const StabilityOptions& o,
+                           const std::vector<std::filesystem::path>& files) {
+  nlohmann::json cases = nlohmann::json::array();
+  for (const std::filesystem::path& file : files)
+    cases.push_back({file.filename().string(), FileFingerprint(file.string())});
+  const SolverOptions& s = o.solver;
+  return {{"unjam_check_records", 1},
+          {"cases", cases},
+          {"steps", o.steps},
+          {"dt", o.dt},
+          {"tolerance", s.tolerance},
+          {"max_step_seconds", o.max_step_seconds},
+          {"max_seconds", NumberOrNull(s.time_limit)},
+          {"max_iter", f.solver.max_iterations},
+          {"solver",
+           {s.nsgs.relaxation, ToString(s.nsgs.order), s.nsgs.seed, s.newton.max_iterations,
+            s.newton.warmup_tolerance, s.de_saxce.convex_relaxation, s.ipopt.max_iterations,
+            ToString(s.nlopt.algorithm), s.nlopt.max_evaluations, s.lemke.pivots_per_row}}};
+}
+
+StabilityCase ReadCase(const std::filesystem::path& file) {
+  StabilityCase c{file.filename().string(), {}};
+  if (IsSiconosFile(file.string())) c.problem = ReadSiconosProblem(file.string());
+  else c.problem = ReadPacking(file.string());
+  return c;
+}
+
+// The rows of one case, one per backend (or the reader's refusal), each recorded as it comes;
+// rows the records already hold are taken from them.
+std::vector<StabilityRow> CheckCase(const std::filesystem::path& file, const StabilityOptions& o,
+                                    CheckRecords* records, bool quiet) {
+  const std::string name = file.filename().string();
+  auto done = [&](const std::string& backend) {
+    return records != nullptr ? records->Find(name, backend) : nullptr;
+  };
+  if (const StabilityRow* refused = done("-")) return {*refused};
+  std::vector<StabilityRow> rows;
+  std::optional<StabilityCase> c;
+  for (const std::string& backend : o.backends) {
+    if (const StabilityRow* row = done(backend)) {
+      rows.push_back(*row);
+      continue;
+    }
+    StabilityRow row;
+    try {
+      if (!c) c = ReadCase(file);
+      StabilityOptions one = o;
+      one.backends = {backend};
+      row = CheckStability(*c, one).front();
+    } catch (const InputError& e) {
+      row = Refused(name, e);
+    }
+    if (records != nullptr) records->Add(row);
+    if (!quiet) PrintRow(stderr, row);
+    rows.push_back(row);
+    if (row.backend == "-") break;
+  }
+  return rows;
+}
+
 }  // namespace
 
 int RunCheck(const CheckFlags& f) {
   const std::vector<std::filesystem::path> files = CaseFiles(f.paths);
-  RefuseOutputDirectoryOverInput("-o", f.output_dir, {"stability.csv", ".lock"}, files);
+  RefuseOutputDirectoryOverInput("-o", f.output_dir,
+                                 {"stability.csv", "stability.records.jsonl", ".lock"}, files);
   StabilityOptions o;
   o.backends = f.backends.empty() ? AvailableBackends() : f.backends;
   for (const std::string& b : o.backends) MakeSolver(b);  // an unknown name fails before any work
@@ -140,39 +184,34 @@ int RunCheck(const CheckFlags& f) {
   o.dt = f.dt;
   o.max_step_seconds = f.max_step_seconds;
   std::optional<OutputLock> lock;
+  std::optional<CheckRecords> records;
   if (!f.output_dir.empty()) {
     std::filesystem::create_directories(f.output_dir);
     lock.emplace(std::filesystem::path(f.output_dir) / ".lock", f.output_dir);
+    records.emplace(f.output_dir, CheckHeader(f, o, files));
+    if (records->Resumed() > 0 && !f.quiet)
+      std::fprintf(stderr, "resuming: %zu rows from %s\n", records->Resumed(),
+                   (std::filesystem::path(f.output_dir) / "stability.records.jsonl").c_str());
   }
   std::vector<StabilityRow> rows;
   for (const std::filesystem::path& file : files) {
-    const std::string name = file.filename().string();
-    std::vector<StabilityRow> found;
-    try {
-      StabilityCase c{name, {}};
-      if (IsSiconosFile(file.string())) c.problem = ReadSiconosProblem(file.string());
-      else c.problem = ReadPacking(file.string());
-      found = CheckStability(c, o);
-    } catch (const InputError& e) {
-      found = {Refused(name, e)};
-    }
-    for (const StabilityRow& r : found) {
-      if (!f.quiet) PrintRow(stderr, r);
+    for (const StabilityRow& r : CheckCase(file, o, records ? &*records : nullptr, f.quiet))
       rows.push_back(r);
-    }
   }
   const bool failed = std::any_of(rows.begin(), rows.end(), [](const StabilityRow& r) {
     return r.verdict == StabilityVerdict::kFailed;
   });
-  if (!f.output_dir.empty())
+  if (!f.output_dir.empty()) {
     WriteFileAtomically(std::filesystem::path(f.output_dir) / "stability.csv", Csv(rows));
+    records->Remove();
+  }
   if (f.json) {
     nlohmann::json out = {{"cases", files.size()},
                           {"backends", o.backends},
                           {"tolerance", o.solver.tolerance},
                           {"steps", o.steps},
                           {"failed", failed}};
-    for (const StabilityRow& r : rows) out["rows"].push_back(Json(r));
+    for (const StabilityRow& r : rows) out["rows"].push_back(RowJson(r));
     std::printf("%s\n", out.dump().c_str());
   } else {
     std::printf("%-30s %-7s %6s %-17s %9s %9s %9s %6s %9s %9s %8s  %s\n", "case", "backend",

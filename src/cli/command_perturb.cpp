@@ -73,6 +73,7 @@ void PerturbFlags::Register(CLI::App& a) {
   solver.backend = "auto";  // resolved by PerturbationBackend
   solver.backend_may_be_auto = true;
   solver.Register(a);
+  a.remove_option(a.get_option("--max-seconds"));  // a perturbation runs many solves
   a.get_option("--backend")
       ->description(
           "contact solver backend; auto: the rate solve (the quasi-rigid loading path over the "

@@ -21,6 +21,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
 bool AllFinite(const Eigen::VectorXd& v) { return v.size() == 0 || v.allFinite(); }
 
 bool SameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
@@ -117,7 +121,17 @@ void StepAtRest(const Scene& scene, const std::string& backend,
   row.max_overlap = overlap0;
   const auto start = Clock::now();
   for (int k = 0; k < o.steps; ++k) {
+    // The budget bounds the step in progress too: a backend's solve stops at what is left.
+    const double left = o.max_step_seconds - Seconds(start);
+    if (!(left > 0.0)) break;
+    sim.mutable_options().solver.time_limit = std::min(o.solver.time_limit, left);
     const StepReport r = sim.Step();
+    if (!r.solve.converged() && Seconds(start) >= o.max_step_seconds) {
+      row.message += (row.message.empty() ? "" : "; ") +
+                     std::string("the time budget ran out in step ") + std::to_string(k + 1) +
+                     " (not counted)";
+      break;
+    }
     ++row.steps;
     row.max_overlap = std::max(row.max_overlap, MaxOverlap(sim.scene()) / radius);
     row.energy_change = std::max(row.energy_change, (SceneEnergy(sim.scene()) - e0) / scale);
@@ -126,7 +140,6 @@ void StepAtRest(const Scene& scene, const std::string& backend,
       row.message =
           "step " + std::to_string(k + 1) + " not converged (" + ToString(r.solve.status) + ")";
     }
-    if (std::chrono::duration<double>(Clock::now() - start).count() > o.max_step_seconds) break;
   }
   row.overlap_growth = row.max_overlap - overlap0;
 }
@@ -159,7 +172,8 @@ void Judge(const StabilityOptions& o, StabilityRow& row) {
   if (drift != nullptr && row.steps_converged) return fail(drift);
   if (!row.report.converged() || !row.steps_converged) {
     row.verdict = StabilityVerdict::kReported;
-    if (row.message.empty()) row.message = row.report.message;
+    if (!row.report.converged())  // the static solve's reason first, then the steps'
+      row.message = row.report.message + (row.message.empty() ? "" : "; " + row.message);
     if (drift != nullptr) row.message += std::string("; then ") + drift;
   }
 }

@@ -28,6 +28,7 @@
 // improvement (the library's accuracy limit), or after 10 solves without halving the
 // residual.
 #include "de_saxce.hpp"
+#include "deadline.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -314,7 +315,8 @@ SolveResult SolveRelaxation(const Problem& p, const SolverOptions& o, const Solv
   const ConvexLaw law(p);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(p.NumUnknowns());
   if (p.NumContacts() == 0) return Finish(p, {zero, 0.0}, {}, 0, 0, o, backend, step);
-  const ConvexStep s = step.Solve(zero, InitialImpulses(p, guess), kInnerSafety * o.tolerance);
+  const ConvexStep s =
+      step.Solve(zero, InitialImpulses(p, guess), kInnerSafety * o.tolerance, o.time_limit);
   if (!s.impulses.allFinite()) {
     return Finish(p, {s.impulses, std::numeric_limits<double>::quiet_NaN()}, {}, 1, s.iterations, o,
                   backend, step);
@@ -355,10 +357,15 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const SolverGue
   int library_iterations = 0;
   int since_progress = 0;
   double progress_mark = best.residual;
+  const solvers_internal::Deadline deadline(o.time_limit);
   while (best.residual > o.tolerance && solves < o.de_saxce.max_outer_iterations) {
+    if (deadline.Passed()) {
+      outcome = {SolveStatus::kIterationLimit, solvers_internal::TimeLimitMessage(o.time_limit)};
+      break;
+    }
     const double inner = InnerTolerance(o, law.ShiftChange(r, previous_shift, shift));
     const double best_before = best.residual;
-    const ConvexStep s = step.Solve(shift, r, inner);
+    const ConvexStep s = step.Solve(shift, r, inner, deadline.SecondsLeft());
     ++solves;
     library_iterations += s.iterations;
     if (!s.impulses.allFinite()) {
@@ -370,6 +377,8 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const SolverGue
     if (polished.residual < best.residual) best = polished;
     if (!s.solved) {
       outcome = {s.failure, s.library_status + " in convex solve " + std::to_string(solves)};
+      if (deadline.Passed())
+        outcome = {SolveStatus::kIterationLimit, solvers_internal::TimeLimitMessage(o.time_limit)};
       break;
     }
     previous_shift = shift;
@@ -377,7 +386,7 @@ SolveResult FixedPoint(const Problem& p, const SolverOptions& o, const SolverGue
     // The same convex problem again, as tight as before, after a solve that did not help:
     // the library's accuracy, not the shift, is the limit.
     const double tightest = kInnerSafety * o.tolerance;
-    if (inner <= tightest &&
+    if (!step.Proximal() && inner <= tightest &&
         InnerTolerance(o, law.ShiftChange(r, previous_shift, shift)) <= tightest &&
         !(best.residual < best_before)) {
       outcome = {SolveStatus::kIterationLimit,

@@ -113,11 +113,15 @@ class ConvexStepSolver {
  public:
   virtual ~ConvexStepSolver() = default;
   // Solves the convex step with shift `shift` from `start`, aiming at
-  // ConvexLaw::Residual ≤ `tolerance`.
+  // ConvexLaw::Residual ≤ `tolerance`, and stops after `time_limit` wall-clock seconds
+  // (failure kIterationLimit).
   virtual ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
-                           double tolerance) = 0;
+                           double tolerance, double time_limit) = 0;
   // What one library iteration is called in the report ("Ipopt iterations").
   virtual std::string IterationName() const = 0;
+  // Whether each solve adds a proximal term centred on its start (ipopt_solver.cpp): the
+  // same shift then poses another convex problem once the start has moved.
+  virtual bool Proximal() const { return false; }
 };
 
 // The fixed point on the shift, or the convex relaxation alone

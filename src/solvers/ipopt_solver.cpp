@@ -26,6 +26,18 @@
 // entries on average. Derivatives are constant (hessian_constant, jac_*_constant), the
 // linear solver is MUMPS (the only one in Debian's Ipopt), and Mehrotra's predictor–
 // corrector suits a convex QP.
+//
+// Why a proximal term. W is singular along every self-stress (Hᵀr = 0). Where a self-stress
+// fits inside every cone it touches (disks wedged between two walls with friction,
+// problems/hard/column-200.unjam; a hexagonal pile on a floor), the convex step's optimal face
+// is unbounded along it, and an interior point drifts to infinity on it (the central path
+// leads to the face's analytic centre). A step of the column at rest came back with impulses
+// 10⁹ times the weights, residual 3e-14 relative to them, and its absolute error moved the
+// grains: overlap 4.6 radii and energy created after 10 steps; a 20-wide hexagonal pile's
+// static forces came back 10⁵ times its load. So each convex solve minimises ε/2 |x − x₀|²
+// more, x₀ its start (the fixed point's iterate): strictly convex, bounded, and a fixed point
+// x = x₀ of the loop solves the exact law all the same. The convex relaxation, solved once,
+// has none.
 #include "ipopt_solver.hpp"
 
 #include <algorithm>
@@ -40,6 +52,7 @@
 #include <Eigen/SparseCore>
 
 #include "de_saxce.hpp"
+#include "deadline.hpp"
 #include "unjam/problem/kinematics.hpp"
 #include "unjam/solvers/residual.hpp"
 
@@ -54,6 +67,13 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 
 constexpr double kInfinity = 2e19;         // Ipopt reads |bound| ≥ 1e19 as none
 constexpr double kToleranceFloor = 1e-13;  // on Ipopt's scaled KKT error (SetTolerance)
+// ε of the proximal term, relative to the mean W_nn (the scaled Q has unit mean diagonal).
+// It must hold the drift, yet leave the soft modes of a large packing (small eigenvalues of
+// Q) alone, or every convex solve lands ε/λ short of the step's solution and the fixed point
+// crawls. Measured: 1e-12 keeps the hexagonal piles' forces at their load (20, 40 and 400
+// wide) and a cold N = 3000 packing in one convex solve (34 iterations, 5.8e-11); 1e-11 took
+// that packing 199 iterations, 1e-10 57 s and 1e-6 112 s without converging.
+constexpr double kProximalWeight = 1e-12;
 
 // The scaled QP: x = (r / S, y / (S C)), objective ½ xᵀ Q x + ((q + s) / (S w̄))ᵀ x, rows
 // J x. Q and J do not depend on S.
@@ -163,6 +183,25 @@ ScaledQp MakeScaledQp(const ContactProblem& p) {
   return qp;
 }
 
+// Q + εI on the impulses: the proximal term ε/2 |x − x₀|² of each convex solve (the linear
+// part −ε x₀ is added per solve). See "Why a proximal term" at the top of the file.
+ScaledQp WithProximalTerm(ScaledQp qp, double epsilon) {
+  if (epsilon == 0.0) return qp;
+  SparseMatrix identity(qp.hessian.rows(), qp.hessian.cols());
+  Triplets diagonal;
+  for (int i = 0; i < qp.unknowns; ++i) diagonal.emplace_back(i, i, epsilon);
+  identity.setFromTriplets(diagonal.begin(), diagonal.end());
+  qp.hessian = SparseMatrix(qp.hessian + identity);
+  qp.hessian_lower.clear();
+  for (int col = 0; col < qp.hessian.outerSize(); ++col) {
+    for (SparseMatrix::InnerIterator it(qp.hessian, col); it; ++it) {
+      if (it.row() >= col)
+        qp.hessian_lower.emplace_back(static_cast<int>(it.row()), col, it.value());
+    }
+  }
+  return qp;
+}
+
 // The Delassus form: Q = ½(W + Wᵀ) / w̄ (W symmetric to kSymmetryTolerance, AsymmetryOf),
 // offset q / w̄, no cell variable.
 ScaledQp MakeScaledQp(const DelassusProblem& p) {
@@ -190,8 +229,9 @@ ScaledQp MakeScaledQp(const DelassusProblem& p) {
 
 class ConvexQpTnlp : public Ipopt::TNLP {
  public:
-  ConvexQpTnlp(const ScaledQp& qp, Eigen::VectorXd linear, Eigen::VectorXd start)
-      : qp_(qp), linear_(std::move(linear)), start_(std::move(start)), solution_(start_) {}
+  ConvexQpTnlp(const ScaledQp& qp, Eigen::VectorXd linear, Eigen::VectorXd start, double time_limit)
+      : qp_(qp), linear_(std::move(linear)), start_(std::move(start)), solution_(start_),
+        deadline_(time_limit) {}
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_hess,
                     IndexStyleEnum& style) override {
@@ -258,13 +298,22 @@ class ConvexQpTnlp : public Ipopt::TNLP {
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
     solution_ = Eigen::Map<const Eigen::VectorXd>(x, n);
   }
+  // Ipopt 3.11 has no wall-clock limit of its own: the solve's deadline stops it here
+  // (User_Requested_Stop).
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number, Number,
+                             Number, Number, Number, Index, const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities*) override {
+    return !deadline_.Passed();
+  }
   const Eigen::VectorXd& solution() const { return solution_; }
+  bool TimedOut() const { return deadline_.Passed(); }
 
  private:
   const ScaledQp& qp_;
   Eigen::VectorXd linear_;
   Eigen::VectorXd start_;
   Eigen::VectorXd solution_;
+  solvers_internal::Deadline deadline_;
 };
 
 const char* StatusName(Ipopt::ApplicationReturnStatus s) {
@@ -296,7 +345,8 @@ template <class Problem>
 class IpoptStep final : public ConvexStepSolver {
  public:
   IpoptStep(const Problem& p, const SolverOptions& o)
-      : p_(p), qp_(MakeScaledQp(p)), app_(IpoptApplicationFactory()) {
+      : p_(p), proximal_(o.de_saxce.convex_relaxation ? 0.0 : kProximalWeight),
+        qp_(WithProximalTerm(MakeScaledQp(p), proximal_)), app_(IpoptApplicationFactory()) {
     Ipopt::OptionsList& options = *app_->Options();
     options.SetIntegerValue("print_level", 0);
     options.SetStringValue("sb", "yes");
@@ -309,8 +359,8 @@ class IpoptStep final : public ConvexStepSolver {
     initialized_ = app_->Initialize("") == Ipopt::Solve_Succeeded;
   }
 
-  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
-                   double tolerance) override {
+  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start, double tolerance,
+                   double time_limit) override {
     ConvexStep out;
     out.impulses = start;
     if (!initialized_) {
@@ -321,20 +371,24 @@ class IpoptStep final : public ConvexStepSolver {
     const double scale = ComputeResidual(p_, start).scale;  // S
     Eigen::VectorXd linear = qp_.offset / scale;
     linear.head(qp_.unknowns) += shift / (scale * qp_.delassus_scale);
-    Ipopt::SmartPtr<ConvexQpTnlp> tnlp = new ConvexQpTnlp(qp_, linear, ScaledStart(start, scale));
+    const Eigen::VectorXd x0 = ScaledStart(start, scale);
+    linear.head(qp_.unknowns) -= proximal_ * x0.head(qp_.unknowns);
+    Ipopt::SmartPtr<ConvexQpTnlp> tnlp = new ConvexQpTnlp(qp_, linear, x0, time_limit);
     const Ipopt::ApplicationReturnStatus status = app_->OptimizeTNLP(tnlp);
     if (Ipopt::IsValid(app_->Statistics())) out.iterations = app_->Statistics()->IterationCount();
     out.impulses = scale * tnlp->solution().head(qp_.unknowns);
     out.solved = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
-    out.failure =
-        status == Ipopt::Maximum_Iterations_Exceeded || status == Ipopt::Maximum_CpuTime_Exceeded
-            ? SolveStatus::kIterationLimit
-            : SolveStatus::kNumericalFailure;
+    out.failure = status == Ipopt::Maximum_Iterations_Exceeded ||
+                          status == Ipopt::Maximum_CpuTime_Exceeded ||
+                          (status == Ipopt::User_Requested_Stop && tnlp->TimedOut())
+                      ? SolveStatus::kIterationLimit
+                      : SolveStatus::kNumericalFailure;
     out.library_status = std::string("Ipopt ") + StatusName(status);
     return out;
   }
 
   std::string IterationName() const override { return "Ipopt iterations"; }
+  bool Proximal() const override { return proximal_ > 0.0; }
 
  private:
   // Ipopt's own tolerances on the scaled problem, not below 1e-13: its KKT error stalls
@@ -369,6 +423,7 @@ class IpoptStep final : public ConvexStepSolver {
   }
 
   const Problem& p_;
+  const double proximal_;  // ε of the proximal term (0 for the convex relaxation)
   const ScaledQp qp_;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app_;
   bool initialized_ = false;

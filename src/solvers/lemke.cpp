@@ -35,6 +35,7 @@
 // the one nearest the warm start (the warm start is not used). A ray termination is
 // reported as a numerical failure with its cause.
 #include "lemke.hpp"
+#include "deadline.hpp"
 #include "lemke_mlcp.hpp"
 #include "matrix_form.hpp"
 #include "newton.hpp"
@@ -357,6 +358,7 @@ std::string RunAccount(const Run& run, const lemke_internal::LemkeResult& lemke,
 template <class Problem>
 SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const SolverOptions& o,
                        const SolverGuess& given, const std::string& name) {
+  const solvers_internal::Deadline deadline(o.time_limit);
   const int unknowns = static_cast<int>(k.h.rows());
   if (unknowns == 0) {  // no contact: nothing to pivot, the empty impulse vector solves it
     SolveResult empty;
@@ -395,8 +397,8 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
     const int per_row = o.lemke.pivots_per_row > 0 ? o.lemke.pivots_per_row : run.rate ? 200 : 20;
     const int per_run = static_cast<int>(
         std::min<long long>(o.lemke.max_pivots, 1LL * per_row * posed.enc.variables + 100));
-    const lemke_internal::LemkeResult lemke =
-        lemke_internal::SolveMlcp(mlcp, std::min(per_run, o.lemke.max_pivots - pivots), run.tie);
+    const lemke_internal::LemkeResult lemke = lemke_internal::SolveMlcp(
+        mlcp, std::min(per_run, o.lemke.max_pivots - pivots), run.tie, deadline.SecondsLeft());
     pivots += lemke.pivots;
     Eigen::VectorXd impulses = posed.t * lemke.z;
     double residual = ComputeResidual(problem, impulses).residual;
@@ -431,12 +433,14 @@ SolveResult SolveLemke(const Problem& problem, const MatrixForm& k, const Solver
       report.status = exact && residual <= o.tolerance ? SolveStatus::kConverged
                                                        : SolveStatus::kNumericalFailure;
     }
-    if (report.converged() || pivots >= o.lemke.max_pivots) break;
+    if (report.converged() || pivots >= o.lemke.max_pivots || deadline.Passed()) break;
   }
   report.iterations = pivots;
-  if (!report.converged() && pivots >= o.lemke.max_pivots)
+  if (!report.converged() && (pivots >= o.lemke.max_pivots || deadline.Passed()))
     report.status = SolveStatus::kIterationLimit;
   report.message = "Lemke: " + history;
+  if (!report.converged() && deadline.Passed())
+    report.message = solvers_internal::TimeLimitMessage(o.time_limit) + "; " + report.message;
   return result;
 }
 

@@ -1,4 +1,5 @@
 #include "lemke_mlcp.hpp"
+#include "deadline.hpp"
 #include "splitmix64.hpp"
 
 #include <algorithm>
@@ -151,7 +152,7 @@ class Lemke {
       : problem_(p), tab_(p), nf_(p.NumFree()), n_(p.NumComplementary()),
         tie_tolerance_(tie_tolerance), inverse_(nf_) {}
 
-  LemkeResult Run(int max_pivots) {
+  LemkeResult Run(int max_pivots, const solvers_internal::Deadline& deadline) {
     basic_.resize(tab_.Rows());
     for (int f = 0; f < nf_; ++f) basic_[f] = f;
     for (int i = 0; i < n_; ++i) basic_[nf_ + i] = tab_.W(i);
@@ -176,6 +177,7 @@ class Lemke {
       }
       if (result_.pivots >= max_pivots)
         return Fail(LemkeOutcome::kPivotLimit, "pivot limit reached");
+      if (deadline.Passed()) return Fail(LemkeOutcome::kPivotLimit, "time limit reached");
       if (inverse_.Updates() >= kRefactorInterval && !Refactorise()) {
         return Fail(LemkeOutcome::kSingularBasis, "a basis became numerically singular");
       }
@@ -343,8 +345,9 @@ class Lemke {
 
 }  // namespace
 
-LemkeResult SolveMlcp(const Mlcp& problem, int max_pivots, double tie_tolerance) {
-  return Lemke(problem, tie_tolerance).Run(max_pivots);
+LemkeResult SolveMlcp(const Mlcp& problem, int max_pivots, double tie_tolerance,
+                      double time_limit) {
+  return Lemke(problem, tie_tolerance).Run(max_pivots, solvers_internal::Deadline(time_limit));
 }
 
 }  // namespace unjam::lemke_internal

@@ -38,6 +38,8 @@
 // Thm 4.4.13), e.g. a prescribed motion that the rigid grains block.
 #pragma once
 
+#include <limits>
+
 #include <string>
 #include <vector>
 
@@ -81,6 +83,9 @@ struct LemkeResult {
 
 // `tie_tolerance`: basic values within tie_tolerance × the largest one block together in the
 // ratio test (Harris), and are then ordered by the lexicographic rule.
-LemkeResult SolveMlcp(const Mlcp& problem, int max_pivots, double tie_tolerance);
+// The path stops with kPivotLimit after max_pivots pivots or `time_limit` wall-clock
+// seconds (its message says which).
+LemkeResult SolveMlcp(const Mlcp& problem, int max_pivots, double tie_tolerance,
+                      double time_limit = std::numeric_limits<double>::infinity());
 
 }  // namespace unjam::lemke_internal

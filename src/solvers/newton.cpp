@@ -39,6 +39,7 @@
 // Delassus form (ũ = W r + q, delassus_problem.hpp): the same system with H = I, M⁻¹Hᵀ = W
 // and v_free = q, so that v = q + W r is ũ itself; the NSGS warm-up is NSGS on W.
 #include "newton.hpp"
+#include "deadline.hpp"
 #include "matrix_form.hpp"
 #include "nsgs.hpp"
 #include "sparse_lu.hpp"
@@ -58,6 +59,7 @@ namespace unjam {
 
 namespace {
 
+using solvers_internal::Deadline;
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
@@ -216,7 +218,8 @@ struct Iterate {
 template <class Problem>
 class NewtonPhase {
  public:
-  NewtonPhase(const Problem& p, const SolverOptions& o) : p_(p), o_(o), op_(MakeOperators(p)) {}
+  NewtonPhase(const Problem& p, const SolverOptions& o, const Deadline& deadline)
+      : p_(p), o_(o), deadline_(deadline), op_(MakeOperators(p)) {}
 
   Iterate Run(const Iterate& start, int& budget, std::string& failure) {
     Iterate best = start;
@@ -228,7 +231,8 @@ class NewtonPhase {
     int inner = 0;
     int since_progress = 0;
     double progress_mark = best.residual;
-    while (best.residual > o_.tolerance && budget > 0 && since_progress < kStallIterations) {
+    while (best.residual > o_.tolerance && budget > 0 && since_progress < kStallIterations &&
+           !deadline_.Passed()) {
       --budget;
       ++iterations_;
       ++since_progress;
@@ -310,6 +314,7 @@ class NewtonPhase {
 
   const Problem& p_;
   const SolverOptions& o_;
+  const Deadline& deadline_;
   const Operators op_;
   Eigen::UmfPackLU<SparseMatrix> lu_;
   bool analysed_ = false;
@@ -326,11 +331,12 @@ SolveResult SolveWithNsgs(const DelassusProblem& p, const SolverOptions& o,
 
 // NSGS from `start` to `tolerance`: the warm-up that brings Newton into its basin.
 template <class Problem>
-Iterate WarmUp(const Problem& p, const SolverOptions& o, const Iterate& start, double tolerance,
-               SolveReport& report, int& sweeps) {
+Iterate WarmUp(const Problem& p, const SolverOptions& o, const Deadline& deadline,
+               const Iterate& start, double tolerance, SolveReport& report, int& sweeps) {
   SolverOptions warm_options = o;
   warm_options.tolerance = tolerance;
   warm_options.nsgs.max_sweeps = o.newton.warmup_max_sweeps;
+  warm_options.time_limit = deadline.SecondsLeft();
   const SolveResult s = SolveWithNsgs(p, warm_options, {start.impulses, {}});
   report.contact_updates += s.report.contact_updates;
   sweeps += s.report.iterations;
@@ -400,10 +406,11 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const So
   SolveResult result;
   SolveReport& report = result.report;
   report.backend = name;
+  const Deadline deadline(options.time_limit);
   const Iterate given = Start(p, options, guess, name, report);
   Iterate best = given;
 
-  NewtonPhase<Problem> newton(p, options);
+  NewtonPhase<Problem> newton(p, options, deadline);
   int budget = options.newton.max_iterations;
   std::string failure;
   int sweeps = 0;
@@ -423,10 +430,11 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const So
   }
   Iterate from = given;
   double warmup = options.newton.warmup_tolerance;
-  for (int round = 0; round < kMaxRounds && best.residual > options.tolerance && budget > 0;
+  for (int round = 0;
+       round < kMaxRounds && best.residual > options.tolerance && budget > 0 && !deadline.Passed();
        ++round) {
     if (from.residual > warmup) {
-      const Iterate warmed = WarmUp(p, options, from, warmup, report, sweeps);
+      const Iterate warmed = WarmUp(p, options, deadline, from, warmup, report, sweeps);
       if (warmed.residual < from.residual) from = warmed;
     }
     failure.clear();
@@ -447,6 +455,9 @@ SolveResult SolveNewton(const Problem& p, const SolverOptions& options, const So
   } else if (!failure.empty()) {
     report.status = SolveStatus::kNumericalFailure;
     report.message = failure;
+  } else if (deadline.Passed()) {
+    report.status = SolveStatus::kIterationLimit;
+    report.message = solvers_internal::TimeLimitMessage(options.time_limit);
   } else {
     report.status = SolveStatus::kIterationLimit;
     report.message = "Newton stalled or reached its iteration limit before the tolerance";

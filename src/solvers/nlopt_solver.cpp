@@ -24,6 +24,7 @@
 // (nlopt_force_stop), when the evaluations run out, or when a run brings no improvement.
 #include "nlopt_solver.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -35,6 +36,7 @@
 #include <Eigen/SparseCore>
 
 #include "de_saxce.hpp"
+#include "deadline.hpp"
 #include "unjam/problem/kinematics.hpp"
 #include "unjam/solvers/residual.hpp"
 
@@ -192,8 +194,8 @@ class NloptStep final : public ConvexStepSolver {
       : layout_(LayoutOf(p)), o_(o), law_(p), map_(MakeEdgeMap(layout_, impulse_scale)),
         w_(std::move(delassus)) {}
 
-  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
-                   double tolerance) override;
+  ConvexStep Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start, double tolerance,
+                   double time_limit) override;
   std::string IterationName() const override { return "NLopt evaluations"; }
 
   // W r, matrix-free.
@@ -203,7 +205,7 @@ class NloptStep final : public ConvexStepSolver {
 
  private:
   void StartRun(Run& run, const Eigen::VectorXd& y0) const;
-  nlopt_result RunOnce(Run& run, int evaluations_left) const;
+  nlopt_result RunOnce(Run& run, int evaluations_left, double seconds_left) const;
 
   const ContactLayout layout_;
   const SolverOptions& o_;
@@ -254,7 +256,7 @@ void NloptStep::StartRun(Run& run, const Eigen::VectorXd& y0) const {
   run.sigma = projected > 0.0 ? 1.0 / projected : 1.0;
 }
 
-nlopt_result NloptStep::RunOnce(Run& run, int evaluations_left) const {
+nlopt_result NloptStep::RunOnce(Run& run, int evaluations_left, double seconds_left) const {
   const unsigned n = static_cast<unsigned>(map_.lower.size());
   const nlopt_algorithm algorithm =
       o_.nlopt.algorithm == NloptAlgorithm::kCcsaq ? NLOPT_LD_CCSAQ : NLOPT_LD_LBFGS;
@@ -264,6 +266,7 @@ nlopt_result NloptStep::RunOnce(Run& run, int evaluations_left) const {
   nlopt_set_lower_bounds(run.opt, map_.lower.data());
   nlopt_set_min_objective(run.opt, Objective, &run);
   nlopt_set_maxeval(run.opt, evaluations_left);
+  if (std::isfinite(seconds_left)) nlopt_set_maxtime(run.opt, std::max(seconds_left, 1e-3));
   nlopt_set_ftol_rel(run.opt, kRunFunctionTolerance);
   if (algorithm == NLOPT_LD_LBFGS) nlopt_set_vector_storage(run.opt, kLbfgsMemory);
   std::vector<double> x(run.y0.data(), run.y0.data() + n);
@@ -272,7 +275,8 @@ nlopt_result NloptStep::RunOnce(Run& run, int evaluations_left) const {
 }
 
 ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd& start,
-                            double tolerance) {
+                            double tolerance, double time_limit) {
+  const solvers_internal::Deadline deadline(time_limit);
   ConvexStep out;
   Run run;
   run.step = this;
@@ -283,21 +287,24 @@ ConvexStep NloptStep::Solve(const Eigen::VectorXd& shift, const Eigen::VectorXd&
   run.best_residual = law_.Residual(run.r0, run.u0, shift);
   run.reached = run.best_residual <= tolerance || map_.lower.empty();
   nlopt_result result = NLOPT_SUCCESS;
-  while (!run.reached && run.evaluations < o_.nlopt.max_evaluations) {
+  while (!run.reached && run.evaluations < o_.nlopt.max_evaluations && !deadline.Passed()) {
     const double before = run.best_residual;
-    result = RunOnce(run, o_.nlopt.max_evaluations - run.evaluations);
-    if (run.reached || result == NLOPT_MAXEVAL_REACHED || !(run.best_residual < before)) break;
+    result = RunOnce(run, o_.nlopt.max_evaluations - run.evaluations, deadline.SecondsLeft());
+    if (run.reached || result == NLOPT_MAXEVAL_REACHED || result == NLOPT_MAXTIME_REACHED ||
+        !(run.best_residual < before))
+      break;
     StartRun(run, run.best_y);  // a run gains at most ~8 digits: restart from the best point
   }
   out.impulses = map_.e * run.best_y;
   out.iterations = run.evaluations;
   out.solved = run.reached;
   if (run.reached) result = NLOPT_SUCCESS;
-  out.failure = result == NLOPT_MAXEVAL_REACHED || run.evaluations >= o_.nlopt.max_evaluations
+  out.failure = result == NLOPT_MAXEVAL_REACHED || result == NLOPT_MAXTIME_REACHED ||
+                        run.evaluations >= o_.nlopt.max_evaluations || deadline.Passed()
                     ? SolveStatus::kIterationLimit
                     : SolveStatus::kNumericalFailure;
   out.library_status = std::string("NLopt ") + nlopt_result_to_string(result);
-  if (!run.reached && result != NLOPT_MAXEVAL_REACHED) {
+  if (!run.reached && result != NLOPT_MAXEVAL_REACHED && result != NLOPT_MAXTIME_REACHED) {
     char detail[96];
     std::snprintf(detail, sizeof detail, ", a run without progress (convex residual %.3g)",
                   run.best_residual);

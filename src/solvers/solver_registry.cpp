@@ -114,6 +114,7 @@ void SolverOptions::SetIterationLimit(int n) {
 void Validate(const SolverOptions& o) {
   if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
     Reject("tolerance", o.tolerance, "must be a positive finite number");
+  if (!(o.time_limit > 0.0)) Reject("time_limit", o.time_limit, "must be positive (seconds)");
   o.nsgs.Validate();
   o.newton.Validate();
   o.de_saxce.Validate();

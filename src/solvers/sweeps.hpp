@@ -9,6 +9,7 @@
 #include <numeric>
 #include <vector>
 
+#include "deadline.hpp"
 #include "splitmix64.hpp"
 #include "unjam/solvers/contact_solver.hpp"
 
@@ -56,9 +57,10 @@ inline void NextOrder(SweepOrder kind, int sweep, SplitMix64& rng,
 template <class IndexedSweepFn, class ResidualFn>
 void RunIndexedSweeps(int num_contacts, const SolverOptions& o, IndexedSweepFn sweep,
                       ResidualFn residual, SolveReport& report) {
+  const Deadline deadline(o.time_limit);
   double current = residual();
   int sweeps = 0;
-  while (current > o.tolerance && sweeps < o.nsgs.max_sweeps) {
+  while (current > o.tolerance && sweeps < o.nsgs.max_sweeps && !deadline.Passed()) {
     const int batch = std::min(o.nsgs.check_interval, o.nsgs.max_sweeps - sweeps);
     for (int b = 0; b < batch; ++b, ++sweeps) sweep(sweeps);
     report.contact_updates += static_cast<std::int64_t>(batch) * num_contacts;
@@ -74,7 +76,8 @@ void RunIndexedSweeps(int num_contacts, const SolverOptions& o, IndexedSweepFn s
     report.status = SolveStatus::kConverged;
   } else {
     report.status = SolveStatus::kIterationLimit;
-    report.message = "iteration limit reached before the tolerance";
+    report.message = sweeps < o.nsgs.max_sweeps ? TimeLimitMessage(o.time_limit)
+                                                : "iteration limit reached before the tolerance";
   }
 }
 

@@ -49,6 +49,26 @@ hold_lock "$work/held/.lock"
 expect_code 1 "a held output" "$unjam" check "$hard/one-particle.unjam" --backends nsgs -o "$work/held" --quiet
 release_lock
 [ ! -e "$work/held/stability.csv" ] || fail "a held output was written"
+# A killed `check -o DIR` keeps the rows it recorded; the same command takes them back and
+# runs only the rest; the records go once stability.csv holds every row.
+resume=("$unjam" check "$hard/one-particle.unjam" "$hard/column-200.unjam" --backends nsgs
+  --steps 1000000 --max-step-seconds 3 -o "$work/resume")
+"${resume[@]}" --quiet &
+pid=$!
+for _ in $(seq 300); do
+  [ "$(wc -l <"$work/resume/stability.records.jsonl" 2>/dev/null || echo 0)" -ge 2 ] && break
+  sleep 0.1
+done
+kill -9 "$pid"
+wait "$pid" 2>/dev/null
+[ "$(wc -l <"$work/resume/stability.records.jsonl")" -eq 2 ] || fail "check: one row recorded before the kill"
+[ ! -e "$work/resume/stability.csv" ] || fail "check: a table written before the end"
+expect_code 2 "a resume with other options" "${resume[@]/1000000/5}" --quiet
+[ "$(wc -l <"$work/resume/stability.records.jsonl")" -eq 2 ] || fail "check: records kept on a refusal"
+"${resume[@]}" >/dev/null 2>"$work/resume.err" || fail "check resumed: exit $?"
+grep -q "resuming: 1 rows" "$work/resume.err" || fail "check resumed: $(cat "$work/resume.err")"
+[ "$(grep -c nsgs "$work/resume/stability.csv")" -eq 2 ] || fail "check resumed: rows $(cat "$work/resume/stability.csv")"
+[ ! -e "$work/resume/stability.records.jsonl" ] || fail "check resumed: records left behind"
 # Near-coincident contacts: nsgs converges to 1e-12 with the weight on the tilted wall; the
 # answer `unjam solve` gives, solved on its corrected pattern, has it on the floor (wall 0).
 "$unjam" solve "$hard/near-coincident.unjam" --json --forces >"$work/nc.json" 2>"$work/warn" ||

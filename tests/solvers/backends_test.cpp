@@ -193,6 +193,25 @@ TEST_P(Backend, ReportsAFailureInsteadOfHidingIt) {
   EXPECT_FALSE(r.report.message.empty());
 }
 
+TEST_P(Backend, StopsAtItsTimeLimitAndSaysSo) {
+  SolverOptions o;
+  o.tolerance = 1e-14;
+  o.time_limit = 1e-9;  // passed at the backend's first check, whatever the machine
+  const SolveResult r = MakeSolver(GetParam())->Solve(StackProblem(40, 0.3), o);
+  EXPECT_EQ(r.report.status, SolveStatus::kIterationLimit) << r.report.message;
+  EXPECT_GT(r.report.residual, o.tolerance);
+  EXPECT_NE(r.report.message.find("time limit of 1e-09 s"), std::string::npos) << r.report.message;
+}
+
+TEST_P(Backend, RefusesATimeLimitThatIsNotPositive) {
+  for (double limit : {0.0, -1.0, std::nan("")}) {
+    SolverOptions o;
+    o.time_limit = limit;
+    EXPECT_THROW(MakeSolver(GetParam())->Solve(StackProblem(3, 0.3), o), std::invalid_argument)
+        << limit;
+  }
+}
+
 // newton orders systems of 10 000 rows or more by METIS instead of AMD (newton.cpp): a
 // row of 120 frictionless stacks of 30 disks (3 600 bodies, 7 200 velocities and 3 600
 // impulses) takes that path, and every contact must still carry the weight above it.

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -142,6 +143,10 @@ struct LemkeParameters {
 // parameters, which the other backends ignore.
 struct SolverOptions {
   double tolerance = 1e-10;  // on the unjam residual (docs/residual.md)
+  // Wall-clock seconds the solve may take (`--max-seconds`): at the limit the backend
+  // returns its best iterate with status kIterationLimit and a message that says so.
+  // Infinite: no limit.
+  double time_limit = std::numeric_limits<double>::infinity();
   NsgsParameters nsgs;
   NewtonParameters newton;
   DeSaxceParameters de_saxce;  // ipopt and nlopt
