@@ -9,6 +9,9 @@ namespace unjam {
 class IpoptSolver final : public ContactSolver {
  public:
   std::string Name() const override { return "ipopt"; }
+  // 2: each convex solve carries a proximal term (ipopt_solver.cpp), which changes the answer
+  // wherever the step's solutions are not unique.
+  int AnswerRevision() const override { return 2; }
 
  private:
   SolveResult DoSolve(const ContactProblem& problem, const SolverOptions& options,
