@@ -23,7 +23,7 @@ void SolverFlags::Register(CLI::App& app) {
   app.add_option("--max-seconds", options.time_limit,
                  "wall-clock limit of one solve: at it the backend stops and reports its best "
                  "iterate as not converged (default: none)")
-      ->check(CLI::PositiveNumber);
+      ->check(Positive());
   app.add_option("--relaxation", options.nsgs.relaxation, "NSGS over-relaxation factor in (0, 2)")
       ->capture_default_str();
   app.add_option("--order", order,

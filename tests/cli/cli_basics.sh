@@ -76,6 +76,11 @@ expect_code 2 "unknown NLopt algorithm" "$unjam" solve "$work/stack.unjam" --bac
 grep -q "bfgs" "$work/err" || fail "unknown NLopt algorithm not named"
 expect_code 2 "bad Ipopt iteration limit" "$unjam" solve "$work/stack.unjam" --backend ipopt --ipopt-iter -1
 grep -q "ipopt.max_iterations" "$work/err" || fail "bad ipopt.max_iterations not named"
+expect_code 2 "a time limit of 0" "$unjam" solve "$work/stack.unjam" --max-seconds 0
+grep -q -- "--max-seconds: must be > 0, got 0" "$work/err" || fail "--max-seconds 0: $(head -c 300 "$work/err")"
+# A solve stopped by its time limit says so (a 1e-9 s limit is passed at the first check).
+"$unjam" solve "$work/stack.unjam" --tol 1e-16 --max-seconds 1e-9 --json >"$work/out" 2>/dev/null
+grep -q "time limit of 1e-09 s reached" "$work/out" || fail "--max-seconds 1e-9: $(head -c 300 "$work/out")"
 expect_code 2 "unknown command" "$unjam" frobnicate
 
 # Bad input files: exit 1, the file and the line named, no output file left behind.
