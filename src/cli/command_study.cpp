@@ -208,11 +208,11 @@ void StudyFlags::Register(CLI::App& app) {
   app.add_option("--size", size, "a variant of the configuration's \"sizes\" (e.g. small, paper)");
   app.add_option("-o,--output", output, "results folder (default: the configuration's \"output\")");
   app.add_option("--threads", threads, "threads of the perturbations and bounds (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   app.add_option("--time-limit", time_limit,
                  "start no step after S seconds; the tables then hold the finished runs, and the "
                  "same command continues")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegative());
   app.add_flag("--plan", plan_only, "list the steps (done or to do) and stop");
   app.add_flag("--quiet", quiet, "no progress on stderr");
 }

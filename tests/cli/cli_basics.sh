@@ -126,7 +126,7 @@ ls "$work/no" >/dev/null 2>&1 && fail "output directory was created"
 
 # Range errors name the rule; every command refuses a negative thread count; --version.
 small="$src/problems/gravity-n100-mu0.5.unjam"
-for cmd in "perturb $small --top" "bounds $small" "solve $small" "pack"; do
+for cmd in "perturb $small --top" "bounds $small" "solve $small" "pack" "study $src/configs/none.json"; do
   expect_code 2 "$cmd --threads -1" "$unjam" $cmd --threads -1
   grep -q -- "--threads: must be >= 0, got -1" "$work/err" || fail "$cmd --threads -1: $(head -c 300 "$work/err")"
 done
