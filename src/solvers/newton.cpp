@@ -336,7 +336,8 @@ Iterate WarmUp(const Problem& p, const SolverOptions& o, const Deadline& deadlin
   SolverOptions warm_options = o;
   warm_options.tolerance = tolerance;
   warm_options.nsgs.max_sweeps = o.newton.warmup_max_sweeps;
-  warm_options.time_limit = deadline.SecondsLeft();
+  // What is left, kept positive (a passed deadline stops NSGS at its first check).
+  warm_options.time_limit = std::max(deadline.SecondsLeft(), 1e-9);
   const SolveResult s = SolveWithNsgs(p, warm_options, {start.impulses, {}});
   report.contact_updates += s.report.contact_updates;
   sweeps += s.report.iterations;
