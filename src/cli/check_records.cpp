@@ -1,7 +1,5 @@
 #include "check_records.hpp"
 
-#include <cmath>
-#include <limits>
 #include <optional>
 
 #include "cli_common.hpp"
@@ -10,10 +8,6 @@
 namespace unjam::cli {
 
 namespace {
-
-double NumberOf(const nlohmann::json& j) {
-  return j.is_null() ? std::numeric_limits<double>::quiet_NaN() : j.get<double>();
-}
 
 std::optional<SolveStatus> SolveStatusFromString(const std::string& name) {
   for (SolveStatus s :
@@ -44,16 +38,16 @@ StabilityRow RowFromJson(const RunRecords::Entry& e) {
     if (!status || !verdict) throw InputError(e.file.string(), e.line, "unknown status or verdict");
     r.report.status = *status;
     r.verdict = *verdict;
-    r.report.residual = NumberOf(j.at("residual"));
+    r.report.residual = NumberOrNaN(j.at("residual"));
     r.report.seconds = j.at("seconds").get<double>();
-    r.siconos_error = NumberOf(j.at("siconos_error"));
-    r.equilibrium = NumberOf(j.at("equilibrium"));
+    r.siconos_error = NumberOrNaN(j.at("siconos_error"));
+    r.equilibrium = NumberOrNaN(j.at("equilibrium"));
     r.finite = j.at("finite").get<bool>();
     r.reproducible = j.at("reproducible").get<bool>();
     r.steps = j.at("steps").get<int>();
-    r.max_overlap = NumberOf(j.at("max_overlap"));
-    r.overlap_growth = NumberOf(j.at("overlap_growth"));
-    r.energy_change = NumberOf(j.at("energy_change"));
+    r.max_overlap = NumberOrNaN(j.at("max_overlap"));
+    r.overlap_growth = NumberOrNaN(j.at("overlap_growth"));
+    r.energy_change = NumberOrNaN(j.at("energy_change"));
     r.message = j.at("message").get<std::string>();
   } catch (const nlohmann::json::exception& x) {
     throw InputError(e.file.string(), e.line, std::string("bad check record: ") + x.what());

@@ -121,10 +121,6 @@ std::string FileFingerprint(const std::string& path) {
   return buf;
 }
 
-nlohmann::json NumberOrNull(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-
 const char* PeriodicityName(Periodicity p) {
   switch (p) {
     case Periodicity::kNone: return "none";

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "unjam/io/json_lines.hpp"  // NumberOrNull
 #include "unjam/protocols/perturbation.hpp"
 #include "unjam/protocols/static_solve.hpp"
 #include "unjam/scene/scene.hpp"
@@ -85,9 +86,6 @@ const char* FiguresSkippedReason();
 
 // Every digit of a finite number (%.17g); empty for no number (CSV).
 std::string ExactNumber(double x);
-
-// A number, or null where it is not finite (JSON has no NaN or infinity).
-nlohmann::json NumberOrNull(double x);
 
 // FNV-1a of a file, 16 hex digits: a resumed run must start from the same packing.
 std::string FileFingerprint(const std::string& path);

@@ -1,6 +1,7 @@
 #include "unjam/io/json_lines.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
@@ -8,6 +9,12 @@
 #include "unjam/io/read_text.hpp"
 
 namespace unjam {
+
+nlohmann::json NumberOrNull(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+double NumberOrNaN(const nlohmann::json& j) { return j.is_null() ? std::nan("") : j.get<double>(); }
 
 namespace {
 

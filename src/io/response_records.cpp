@@ -1,8 +1,6 @@
 #include "unjam/io/response_records.hpp"
 
-#include <cmath>
 #include <fstream>
-#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -12,15 +10,8 @@
 namespace unjam {
 
 namespace {
-// JSON has no NaN: empty profile bins, and the linearity check's fields when not checked,
-// are written as null.
-nlohmann::json NumberOrNull(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-double NumberOrNaN(const nlohmann::json& j) {
-  return j.is_number() ? j.get<double>() : std::nan("");
-}
-
+// Empty profile bins, and the linearity check's fields when not checked, are written as null
+// (NumberOrNull, json_lines.hpp).
 nlohmann::json WithNulls(const std::vector<double>& v) {
   nlohmann::json out = nlohmann::json::array();
   for (double x : v) out.push_back(NumberOrNull(x));
@@ -29,8 +20,7 @@ nlohmann::json WithNulls(const std::vector<double>& v) {
 
 std::vector<double> FromNulls(const nlohmann::json& j) {
   std::vector<double> out;
-  for (const auto& x : j)
-    out.push_back(x.is_null() ? std::numeric_limits<double>::quiet_NaN() : x.get<double>());
+  for (const auto& x : j) out.push_back(NumberOrNaN(x));
   return out;
 }
 
@@ -89,8 +79,7 @@ ReducedResponse ReducedResponseFromJson(const nlohmann::json& j, const std::stri
     r.target = TargetFromJson(j.at("target"));
     r.origin = Vec2(j.at("origin")[0].get<double>(), j.at("origin")[1].get<double>());
     r.axis = Vec2(j.at("axis")[0].get<double>(), j.at("axis")[1].get<double>());
-    r.f_crit =
-        j.at("f_crit").is_null() ? std::nan("") : j.at("f_crit").get<double>();  // null: blocked
+    r.f_crit = NumberOrNaN(j.at("f_crit"));  // null: blocked
     r.f_reference = j.at("f_reference").get<double>();
     r.penetration_depth = j.at("penetration_depth").get<double>();
     r.cell_strain = j.at("cell_strain").get<double>();

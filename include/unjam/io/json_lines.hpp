@@ -14,6 +14,11 @@
 
 namespace unjam {
 
+// JSON has no NaN or infinity: records write a number that is not finite as null, and read
+// null back as NaN (any other non-number is a type error, nlohmann::json::exception).
+nlohmann::json NumberOrNull(double x);
+double NumberOrNaN(const nlohmann::json& j);
+
 struct JsonLines {
   nlohmann::json header;
   std::vector<std::pair<int, nlohmann::json>> lines;  // (line number, object) after the header
