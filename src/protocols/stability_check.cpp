@@ -123,7 +123,11 @@ void StepAtRest(const Scene& scene, const std::string& backend,
   for (int k = 0; k < o.steps; ++k) {
     // The budget bounds the step in progress too: a backend's solve stops at what is left.
     const double left = o.max_step_seconds - Seconds(start);
-    if (!(left > 0.0)) break;
+    if (!(left > 0.0)) {
+      row.message += (row.message.empty() ? "" : "; ") +
+                     std::string("the time budget ran out after step ") + std::to_string(k);
+      break;
+    }
     sim.mutable_options().solver.time_limit = std::min(o.solver.time_limit, left);
     const StepReport r = sim.Step();
     if (!r.solve.converged() && Seconds(start) >= o.max_step_seconds) {

@@ -48,6 +48,20 @@ TEST(StabilityCheck, EveryBackendHoldsADiskOnAFloorAtRest) {
   }
 }
 
+TEST(StabilityCheck, SaysSoWhenTheStepBudgetEndsTheStepsShort) {
+  // A budget spent before the first step: no step is run, and the row says why, rather
+  // than listing fewer steps than asked without a word.
+  StabilityOptions o = AllBackends(50);
+  o.backends = {"nsgs"};
+  o.max_step_seconds = 1e-12;
+  const std::vector<StabilityRow> rows =
+      CheckStability({"disk", testing::Stack(1, 0.5, 1.0, 0.5)}, o);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].steps, 0);
+  EXPECT_NE(rows[0].message.find("the time budget ran out after step 0"), std::string::npos)
+      << rows[0].message;
+}
+
 TEST(StabilityCheck, AProblemWithoutContactsIsSolvedByEveryBackend) {
   Scene s;
   s.cell.size = Vec2(10.0, 10.0);
