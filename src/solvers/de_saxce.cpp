@@ -309,15 +309,15 @@ SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outco
 }
 
 // Why the fixed point ends on its contact pattern: an interior point or a bounded L-BFGS
-// stops just below the tolerance it is given, and the residual's ρ = 1/W_nn is blind to
-// some errors that matter: at a mass ratio of 1e6 (problems/hard/heavy-on-light.unjam) a
-// heavy disk's velocity error of 1e-4 passes at 1e-10, and nlopt's time steps at rest,
-// each `converged`, created energy 15 times the stability check's bound over 10⁵ steps
-// (docs/stability.md). Solved exactly on its pattern (pattern_polish.hpp: one sparse
+// stops just below the tolerance it is given, and the residual's ρ = 1/W_nn does not see
+// every error that matters. At a mass ratio of 1e6 (problems/hard/heavy-on-light.unjam)
+// their converged answers had the heavy disk's contacts 1e-6 off, and nlopt's time steps
+// at rest, each `converged`, created energy 15 times the stability check's bound over 10⁵
+// steps (docs/stability.md). Solved exactly on its pattern (pattern_polish.hpp: one sparse
 // factorisation per round, far less than the convex solves) the answer is exact where its
-// pattern is right. Only a converged answer of the convex solves: one that stopped short
-// says so, as it is (SolveStatic still polishes it). A Delassus-form problem has no bodies to pose
-// that system: as it is.
+// pattern is right. Only a converged answer: one that stopped short says so, as it is
+// (SolveStatic still polishes it). A Delassus-form problem has no bodies to pose that
+// system: as it is.
 SolveResult EndOnPattern(const ContactProblem& p, const SolveResult& answer, double tolerance) {
   return answer.report.converged() ? PolishOnPattern(p, answer, tolerance) : answer;
 }

@@ -203,8 +203,8 @@ TEST(Ipopt, DoesNotDriftAlongTheSelfStressesOfAHyperstaticPile) {
 
 TEST(ConvexBackends, EndOnTheirPatternSoThatAMassRatioOf1e6GetsItsAnalyticForces) {
   // A disk of density 1e6 on two light ones (problems/hard/README.md). The residual's
-  // ρ = 1/W_nn is the light disks', so an answer just below the tolerance may leave the
-  // heavy disk's contacts 1e-4 off; nlopt's steps at rest then created energy. Each
+  // ρ = 1/W_nn is the light disks', so an answer just below the tolerance left the heavy
+  // disk's contacts 1e-6 off; nlopt's steps at rest then created energy. Each
   // backend's own answer (no SolveStatic polish) must be the analytic one.
   const Scene scene =
       ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/heavy-on-light.unjam");
