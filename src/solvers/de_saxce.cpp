@@ -316,8 +316,10 @@ SolveResult Finish(const Problem& p, const Iterate& chosen, const Outcome& outco
 // steps (docs/stability.md). Solved exactly on its pattern (pattern_polish.hpp: one sparse
 // factorisation per round, far less than the convex solves) the answer is exact where its
 // pattern is right. Only a converged answer: one that stopped short says so, as it is
-// (SolveStatic still polishes it). A Delassus-form problem has no bodies to pose that
-// system: as it is.
+// (SolveStatic still polishes it). Polishing those too turned the wedge's reported steps
+// (problems/hard/wedge.unjam) into `converged` ones just below the tolerance, and over 10⁵
+// steps at rest the disk then sank 3–6e-5 into the walls: a silent failure where there was
+// an honest one. A Delassus-form problem has no bodies to pose that system: as it is.
 SolveResult EndOnPattern(const ContactProblem& p, const SolveResult& answer, double tolerance) {
   return answer.report.converged() ? PolishOnPattern(p, answer, tolerance) : answer;
 }
