@@ -2,7 +2,10 @@
 #pragma once
 
 #include <cmath>
+#include <numbers>
+#include <string>
 
+#include "unjam/io/packing_file.hpp"
 #include "unjam/scene/scene.hpp"
 
 namespace unjam::testing {
@@ -54,6 +57,22 @@ inline Scene TriangularLattice(int nx, int ny, double r) {
     }
   }
   return s;
+}
+
+// A case of the hard-case catalogue, problems/hard/NAME.unjam (problems/hard/README.md).
+inline Scene HardCase(const std::string& name) {
+  return ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/" + name + ".unjam");
+}
+
+// The analytic contact force (f_n, |f_t|) of problems/hard/heavy-on-light.unjam
+// (problems/hard/README.md): a disk of density 1e6 on two light ones, on a floor.
+struct NormalAndTangential {
+  double normal, tangential;
+};
+inline NormalAndTangential HeavyOnLightForce(bool floor_contact) {
+  const double heavy = 1e6 * std::numbers::pi / 4.0;
+  if (floor_contact) return {heavy / 2.0 + std::numbers::pi / 4.0, heavy / 6.0};
+  return {heavy / 2.0, heavy / 6.0};
 }
 
 }  // namespace unjam::testing

@@ -98,6 +98,11 @@ bool AtRest(const Scene& s) {
   });
 }
 
+// `note` after the row's message, "; "-separated.
+void AppendNote(StabilityRow& row, const std::string& note) {
+  row.message += (row.message.empty() ? "" : "; ") + note;
+}
+
 // The steps of a scene at rest with one backend: the largest overlap and energy change.
 // The steps start from the backend's static forces (as impulses over one step), so that a
 // solved resting case is at rest from the first step.
@@ -124,16 +129,14 @@ void StepAtRest(const Scene& scene, const std::string& backend,
     // The budget bounds the step in progress too: a backend's solve stops at what is left.
     const double left = o.max_step_seconds - Seconds(start);
     if (!(left > 0.0)) {
-      row.message += (row.message.empty() ? "" : "; ") +
-                     std::string("the time budget ran out after step ") + std::to_string(k);
+      AppendNote(row, "the time budget ran out after step " + std::to_string(k));
       break;
     }
     sim.mutable_options().solver.time_limit = std::min(o.solver.time_limit, left);
     const StepReport r = sim.Step();
     if (!r.solve.converged() && Seconds(start) >= o.max_step_seconds) {
-      row.message += (row.message.empty() ? "" : "; ") +
-                     std::string("the time budget ran out in step ") + std::to_string(k + 1) +
-                     " (not counted)";
+      AppendNote(row,
+                 "the time budget ran out in step " + std::to_string(k + 1) + " (not counted)");
       break;
     }
     ++row.steps;

@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include "../test_scenes.hpp"
-#include "unjam/io/packing_file.hpp"
 
 namespace unjam {
 namespace {
@@ -90,8 +89,7 @@ TEST(StabilityCheck, AMotionIntoAWallIsReportedNeverSolved) {
 // 6.7e-7 with a residual of 1e-12: audited as it is (no polish), the check must call that a
 // failure, not a solution; as `unjam solve` gives it (polished on its pattern), it is solved.
 TEST(StabilityCheck, CatchesAConvergedAnswerOutOfEquilibrium) {
-  const Scene s =
-      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/near-coincident.unjam");
+  const Scene s = testing::HardCase("near-coincident");
   StabilityOptions o;
   o.backends = {"nsgs"};
   o.steps = 0;

@@ -206,21 +206,18 @@ TEST(ConvexBackends, EndOnTheirPatternSoThatAMassRatioOf1e6GetsItsAnalyticForces
   // ρ = 1/W_nn is the light disks', so an answer just below the tolerance left the heavy
   // disk's contacts 1e-6 off; nlopt's steps at rest then created energy. Each
   // backend's own answer (no SolveStatic polish) must be the analytic one.
-  const Scene scene =
-      ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/heavy-on-light.unjam");
+  const Scene scene = testing::HardCase("heavy-on-light");
   StaticSolveOptions o;
   const StaticProblem posed = PoseStaticProblem(scene, o);
   const ContactProblem& p = posed.assembled.problem;
   ASSERT_EQ(p.NumContacts(), 4);
-  const double heavy = 1e6 * std::numbers::pi / 4.0;
   for (const std::string& backend : kConvexBackends) {
     SCOPED_TRACE(backend);
     const SolveResult r = SolveWith(backend, p, Tolerance(1e-10));
     ASSERT_TRUE(r.report.converged()) << r.report.message;
     for (int k = 0; k < 4; ++k) {
-      const bool floor = posed.contacts[posed.assembled.source_contact[k]].WithWall();
-      const double fn = floor ? heavy / 2.0 + std::numbers::pi / 4.0 : heavy / 2.0;
-      const double ft = floor ? heavy / 6.0 : fn / 3.0;
+      const auto [fn, ft] =
+          testing::HeavyOnLightForce(posed.contacts[posed.assembled.source_contact[k]].WithWall());
       EXPECT_NEAR(r.impulses[2 * k] / o.dt, fn, 1e-9 * fn) << k;
       EXPECT_NEAR(std::abs(r.impulses[2 * k + 1]) / o.dt, ft, 1e-9 * fn) << k;
     }

@@ -10,7 +10,6 @@
 #include <gtest/gtest.h>
 
 #include "../test_scenes.hpp"
-#include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/static_solve.hpp"
 #include "unjam/solvers/residual.hpp"
 
@@ -19,9 +18,7 @@ namespace {
 
 constexpr double kPi = 3.141592653589793;
 
-Scene HardCase(const std::string& name) {
-  return ReadPacking(std::string(UNJAM_SOURCE_DIR) + "/problems/hard/" + name + ".unjam");
-}
+using testing::HardCase;
 
 // Two walls 1e-6 rad apart and a disk touching both (problems/hard/README.md): the floor
 // (wall 0) carries the weight π/4, the tilted wall (wall 1) nothing. nsgs, newton and nlopt
@@ -54,12 +51,9 @@ TEST(PatternPolish, HeavyOnLightGetsTheAnalyticForces) {
   o.backend = "newton";
   const StaticSolution sol = SolveStatic(s, o);
   ASSERT_TRUE(sol.report.converged()) << sol.report.message;
-  const double heavy = 1e6 * kPi / 4.0;
   ASSERT_EQ(sol.contacts.size(), 4u);
   for (std::size_t k = 0; k < 4; ++k) {
-    const bool floor = sol.contacts[k].WithWall();
-    const double fn = floor ? heavy / 2.0 + kPi / 4.0 : heavy / 2.0;
-    const double ft = floor ? heavy / 6.0 : fn / 3.0;
+    const auto [fn, ft] = testing::HeavyOnLightForce(sol.contacts[k].WithWall());
     EXPECT_NEAR(sol.forces[k][0], fn, 1e-9 * fn) << k;
     EXPECT_NEAR(std::abs(sol.forces[k][1]), ft, 1e-9 * fn) << k;
   }
