@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "reach_heap.hpp"
 #include "unjam/solvers/givens_qr.hpp"
 #include "unjam/solvers/resizable_matrix.hpp"
 
@@ -114,8 +115,9 @@ Weights WeightsOf(int contact) {
 class PathFollower {
  public:
   PathFollower(const RateProblem& p, const RatePathOptions& o)
-      : p_(p), options_(o), dims_(p.basis.cols()) {
+      : p_(p), options_(o), dims_(p.basis.cols()), st_(p.basis.transpose()) {
     const std::size_t n = p.contacts.size();
+    MeasureGradients();
     state_.assign(n, ContactState::kStick);
     for (auto* v : {&slip_, &open_n_, &open_t_, &apex_plus_, &apex_minus_}) v->assign(n, Lex{});
     weights_.resize(n);
@@ -146,7 +148,7 @@ class PathFollower {
     // bound out by as much again, so that its start too is strictly inside them all.
     associated_ = false;
     weight_scale_ = 2.0;
-    direction_ = projector_ * p_.driver;
+    direction_ = Project(p_.driver);
     seen_.clear();
     const RatePathEnd end = Follow(kInf, out);
     // A state that recurs while t has not moved but at first order in ε: the path is a
@@ -173,9 +175,16 @@ class PathFollower {
     e_.Resize(0, dims_);
   }
 
-  // P and the least-norm α that zeroes the released forces.
+  // P = I − Q Qᵀ, the released forces' directions Q (one or two columns) projected out:
+  // applied as such, O(D) per vector instead of O(D²) with P formed.
+  Eigen::VectorXd Project(const Eigen::VectorXd& x) const {
+    if (released_.cols() == 0) return x;
+    return x - released_ * (released_.transpose() * x);
+  }
+
+  // Q and the least-norm α that zeroes the released forces.
   void BuildRelease() {
-    projector_ = Eigen::MatrixXd::Identity(dims_, dims_);
+    released_.resize(dims_, 0);
     release_ = Eigen::VectorXd::Zero(dims_);
     pg_.Resize(dims_, 0);
     e_.Resize(0, dims_);
@@ -189,16 +198,15 @@ class PathFollower {
     }
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(rows.transpose());
     qr.setThreshold(1e-10);
-    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(dims_, qr.rank());
-    projector_ -= q * q.transpose();
+    released_ = qr.householderQ() * Eigen::MatrixXd::Identity(dims_, qr.rank());
     release_ = rows.completeOrthogonalDecomposition().solve(target);
     release_possible_ = (rows * release_ - target).norm() <= 1e-9 * std::max(1.0, target.norm());
   }
 
   bool Frictional(const RateContact& c) const { return c.row_t >= 0; }
   const RateContact& ContactOf(int c) const { return p_.contacts[static_cast<std::size_t>(c)]; }
-  Eigen::VectorXd RowN(const RateContact& c) const { return p_.basis.row(c.row_n).transpose(); }
-  Eigen::VectorXd RowT(const RateContact& c) const { return p_.basis.row(c.row_t).transpose(); }
+  Eigen::MatrixXd::ConstColXpr RowN(const RateContact& c) const { return st_.col(c.row_n); }
+  Eigen::MatrixXd::ConstColXpr RowT(const RateContact& c) const { return st_.col(c.row_t); }
   // The gradient of the cone's edge μ r_n + σ r_t ≥ 0, in the basis' coordinates.
   Eigen::VectorXd EdgeNormal(const RateContact& c, double sigma) const {
     return c.mu * RowN(c) + sigma * RowT(c);
@@ -319,7 +327,7 @@ class PathFollower {
   void Append(const Unknown& u) {
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
     const Eigen::VectorXd e = EquationRow(u);
-    const Eigen::VectorXd pg = projector_ * Column(u);
+    const Eigen::VectorXd pg = Project(Column(u));
     pg_.Resize(dims_, m + 1);
     pg_.view().col(m) = pg;
     e_.Resize(m + 1, dims_);
@@ -344,8 +352,64 @@ class PathFollower {
   void SetForces(const Eigen::VectorXd& alpha0, const Eigen::VectorXd& alpha1) {
     alpha0_ = alpha0;
     alpha1_ = alpha1;
-    f0_ = p_.basis * alpha0_;
-    f1_ = p_.basis * alpha1_;
+    reach_stale_ = true;
+  }
+
+  // Per contact, the products of its rows of S, from which the norm of any of its margins'
+  // gradients follows without reading the rows again.
+  void MeasureGradients() {
+    gradients_.assign(p_.contacts.size(), Gradients{});
+    for (std::size_t ci = 0; ci < p_.contacts.size(); ++ci) {
+      const RateContact& c = p_.contacts[ci];
+      Gradients& g = gradients_[ci];
+      g.nn = RowN(c).squaredNorm();
+      if (!Frictional(c)) continue;
+      g.tt = RowT(c).squaredNorm();
+      g.nt = RowN(c).dot(RowT(c));
+    }
+  }
+  // The norm of the gradient of a·r_n + b·r_t in α.
+  double GradientNorm(std::size_t ci, double a, double b) const {
+    const Gradients& g = gradients_[ci];
+    return std::sqrt(std::max(0.0, a * a * g.nn + 2.0 * a * b * g.nt + b * b * g.tt));
+  }
+
+  // The least margin of a contact to the bounds it can reach in its state, at α (order
+  // zero), lowered by round-off, and the largest rate at which it can fall per unit length
+  // of α's motion.
+  struct Margin {
+    double value = 0.0, rate = 0.0;
+  };
+  Margin MarginOf(std::size_t ci) const {
+    const RateContact& c = p_.contacts[ci];
+    const double rn = c.r0_n + RowN(c).dot(alpha0_);
+    const double rt = Frictional(c) ? c.r0_t + RowT(c).dot(alpha0_) : 0.0;
+    const double slack = kTie * (1.0 + std::abs(rn) + std::abs(rt));
+    if (!Frictional(c) || (state_[ci] != ContactState::kStick && !associated_))
+      return {rn - slack, GradientNorm(ci, 1.0, 0.0)};
+    if (state_[ci] != ContactState::kStick) {
+      const double other = -SlipSign(static_cast<int>(ci));
+      return {c.mu * rn + other * rt - slack, GradientNorm(ci, c.mu, other)};
+    }
+    return {std::min(c.mu * rn - rt, c.mu * rn + rt) - slack,
+            std::max(GradientNorm(ci, c.mu, -1.0), GradientNorm(ci, c.mu, 1.0))};
+  }
+  // Puts a contact in the ratio test's heap with its current reach (absent if open or held).
+  void Track(std::size_t ci) {
+    const RateContact& c = p_.contacts[ci];
+    const int k = static_cast<int>(ci);
+    if (c.held || state_[ci] == ContactState::kOpen) {
+      reach_.Remove(k);
+      return;
+    }
+    const Margin m = MarginOf(ci);
+    reach_.Set(k, m.rate > 0.0 ? arc_ + std::max(m.value, 0.0) / m.rate : kInf);
+  }
+  void TrackEveryContact() {
+    arc_ = 0.0;
+    reach_.Reset(static_cast<int>(p_.contacts.size()));
+    for (std::size_t ci = 0; ci < p_.contacts.size(); ++ci) Track(ci);
+    reach_stale_ = false;
   }
 
   // One piece: the unit direction (du, dt) in the kernel of K = [E P G | E d], from the
@@ -451,6 +515,7 @@ class PathFollower {
     Orientation orient = Orientation::kParameter;
     int oriented_contact = -1;
     double last_dt = 1.0;
+    if (reach_stale_) TrackEveryContact();
     for (;;) {
       if (out.events >= options_.max_events || out.work >= options_.max_work)
         return RatePathEnd::kStalled;
@@ -479,10 +544,7 @@ class PathFollower {
       last_dt_ = dt;
       last_unknowns_ = unknowns_;
 
-      // A collapse piece moves no force: its S dα is zero without the product.
-      Eigen::VectorXd df = Eigen::VectorXd::Zero(p_.basis.rows());
-      if (!dalpha.isZero(0.0)) df.noalias() = p_.basis * dalpha;
-      const Event next = NextEvent(dir, df, t_max);
+      const Event next = NextEvent(dir, dalpha, t_max);
       if (next.kind == EventKind::kNone) {
         if (std::abs(dt) <= kRateTolerance) return RatePathEnd::kFixedCollapse;
         if (dt < 0.0) return RatePathEnd::kBack;
@@ -497,13 +559,13 @@ class PathFollower {
       t_.v1 += next.step.v1 * dt;
       alpha0_ += next.step.v0 * dalpha;
       alpha1_ += next.step.v1 * dalpha;
-      f0_ += next.step.v0 * df;
-      f1_ += next.step.v1 * df;
+      arc_ += next.step.v0 * dalpha.norm();
       if (next.kind == EventKind::kParameterLimit) return RatePathEnd::kCollapse;
       ++out.events;
       out.work += static_cast<double>(p_.basis.rows()) * static_cast<double>(dims_) +
                   static_cast<double>(m) * static_cast<double>(m);
       Apply(next, orient, oriented_contact);
+      Track(static_cast<std::size_t>(next.contact));
     }
   }
 
@@ -544,8 +606,47 @@ class PathFollower {
     return {std::max(0.0, v0) / -rate, v1 / -rate};
   }
 
-  // The first event along the piece `dir`, whose forces change by df = S dα per unit step.
-  Event NextEvent(const Eigen::VectorXd& dir, const Eigen::VectorXd& df, double t_max) {
+  // The events of contact k along the piece (its forces r = r₀ + S α, both orders, and
+  // their rates S dα).
+  void ConsiderContact(int k, const Eigen::VectorXd& dalpha, Event& best) const {
+    const auto ci = static_cast<std::size_t>(k);
+    const RateContact& c = p_.contacts[ci];
+    const double rn = c.r0_n + RowN(c).dot(alpha0_), rn1 = RowN(c).dot(alpha1_);
+    const double drn = RowN(c).dot(dalpha);
+    if (!Frictional(c)) {  // a frictionless contact opens at r_n = −ε w
+      if (drn < -kRateTolerance)
+        Consider({EventKind::kOpens, k, 0.0, StepTo(rn, rn1 + NormalWeight(k), drn)}, best);
+      return;
+    }
+    const double rt = c.r0_t + RowT(c).dot(alpha0_), rt1 = RowT(c).dot(alpha1_);
+    const double drt = RowT(c).dot(dalpha);
+    if (state_[ci] != ContactState::kStick) {
+      // A sliding contact reaches the apex: Coulomb's law opens it at r_n = −ε w; the
+      // associated one meets the other edge, μ r_n − σ r_t = −ε w.
+      const double other = -SlipSign(k);
+      const double y = associated_ ? c.mu * rn + other * rt : rn;
+      const double y1 =
+          associated_ ? c.mu * rn1 + other * rt1 + EdgeWeight(k, other) : rn1 + NormalWeight(k);
+      const double dy = associated_ ? c.mu * drn + other * drt : drn;
+      if (dy < -kRateTolerance) Consider({EventKind::kOpens, k, 0.0, StepTo(y, y1, dy)}, best);
+      return;
+    }
+    // y⁺ = μ r_n − r_t reaches −ε w: the friction force points along +t, the slip along −t.
+    const double dyp = c.mu * drn - drt, dym = c.mu * drn + drt;
+    if (dyp < -kRateTolerance) {
+      Consider({EventKind::kStartsSliding, k, -1.0,
+                StepTo(c.mu * rn - rt, c.mu * rn1 - rt1 + EdgeWeight(k, -1.0), dyp)},
+               best);
+    }
+    if (dym < -kRateTolerance) {
+      Consider({EventKind::kStartsSliding, k, +1.0,
+                StepTo(c.mu * rn + rt, c.mu * rn1 + rt1 + EdgeWeight(k, 1.0), dym)},
+               best);
+    }
+  }
+
+  // The first event along the piece `dir`, on which α moves by dα per unit step.
+  Event NextEvent(const Eigen::VectorXd& dir, const Eigen::VectorXd& dalpha, double t_max) {
     Event best;
     const Eigen::Index m = static_cast<Eigen::Index>(unknowns_.size());
     for (Eigen::Index k = 0; k < m; ++k) {
@@ -561,42 +662,21 @@ class PathFollower {
       }
       Consider({kind, u.contact, sign, StepTo(v.v0, v.v1, dir[k])}, best);
     }
-    // The forces of every contact, their ε parts and rates: r = r₀ + S α.
-    const Eigen::VectorXd &f0 = f0_, &f1 = f1_;
-    for (std::size_t ci = 0; ci < p_.contacts.size(); ++ci) {
-      const RateContact& c = p_.contacts[ci];
-      if (c.held || state_[ci] == ContactState::kOpen) continue;
-      const int k = static_cast<int>(ci);
-      const double rn = c.r0_n + f0[c.row_n], rn1 = f1[c.row_n], drn = df[c.row_n];
-      if (!Frictional(c)) {  // a frictionless contact opens at r_n = −ε w
-        if (drn < -kRateTolerance)
-          Consider({EventKind::kOpens, k, 0.0, StepTo(rn, rn1 + NormalWeight(k), drn)}, best);
-        continue;
-      }
-      const double rt = c.r0_t + f0[c.row_t], rt1 = f1[c.row_t], drt = df[c.row_t];
-      if (state_[ci] != ContactState::kStick) {
-        // A sliding contact reaches the apex: Coulomb's law opens it at r_n = −ε w; the
-        // associated one meets the other edge, μ r_n − σ r_t = −ε w.
-        const double other = -SlipSign(k);
-        const double y = associated_ ? c.mu * rn + other * rt : rn;
-        const double y1 =
-            associated_ ? c.mu * rn1 + other * rt1 + EdgeWeight(k, other) : rn1 + NormalWeight(k);
-        const double dy = associated_ ? c.mu * drn + other * drt : drn;
-        if (dy < -kRateTolerance) Consider({EventKind::kOpens, k, 0.0, StepTo(y, y1, dy)}, best);
-        continue;
-      }
-      // y⁺ = μ r_n − r_t reaches −ε w: the friction force points along +t, the slip along −t.
-      const double dyp = c.mu * drn - drt, dym = c.mu * drn + drt;
-      if (dyp < -kRateTolerance) {
-        Consider({EventKind::kStartsSliding, k, -1.0,
-                  StepTo(c.mu * rn - rt, c.mu * rn1 - rt1 + EdgeWeight(k, -1.0), dyp)},
-                 best);
-      }
-      if (dym < -kRateTolerance) {
-        Consider({EventKind::kStartsSliding, k, +1.0,
-                  StepTo(c.mu * rn + rt, c.mu * rn1 + rt1 + EdgeWeight(k, 1.0), dym)},
-                 best);
-      }
+    // A collapse piece moves no force: no contact reaches a bound on it.
+    const double speed = dalpha.norm();
+    if (speed > 0.0) {
+      // Only the contacts whose reach the step can attain are read; the tie band keeps
+      // those whose step differs from the best one at order zero by round-off only.
+      const auto limit = [&] {
+        const double step = best.step.v0;
+        return step == kInf || options_.read_every_contact
+                   ? kInf
+                   : arc_ + speed * (step + 2.0 * kTie * (1.0 + std::abs(step)));
+      };
+      taken_.clear();
+      reach_.TakeWithin(
+          limit, [&](int k) { ConsiderContact(k, dalpha, best); }, taken_);
+      for (int k : taken_) Track(static_cast<std::size_t>(k));
     }
     const double dt = dir[m];
     if (dt > kRateTolerance && t_max < kInf) {
@@ -749,11 +829,22 @@ class PathFollower {
   int qr_updates_ = 0;
   ResizableMatrix pg_, e_, epg_;
   Eigen::VectorXd ed_;
-  Eigen::MatrixXd projector_;
+  Eigen::MatrixXd released_;  // Q of P = I − Q Qᵀ
   Eigen::VectorXd release_, direction_;
-  // α and S α at the path's point (order zero and ε), moved piece by piece: recomputing α
-  // from t and the unknowns cancels terms of size t, which reaches 1e15 past collapse pieces.
-  Eigen::VectorXd alpha0_, alpha1_, f0_, f1_;
+  // α at the path's point (order zero and ε), moved piece by piece: recomputing α from t
+  // and the unknowns cancels terms of size t, which reaches 1e15 past collapse pieces.
+  Eigen::VectorXd alpha0_, alpha1_;
+  // Sᵀ: a contact's rows of S are read one contact at a time (the ratio test), contiguous here.
+  Eigen::MatrixXd st_;
+  struct Gradients {
+    double nn = 0.0, tt = 0.0, nt = 0.0;
+  };
+  std::vector<Gradients> gradients_;
+  // The ratio test's contacts by reach (reach_heap.hpp), the length of α's path so far.
+  ReachHeap reach_;
+  std::vector<int> taken_;
+  double arc_ = 0.0;
+  bool reach_stale_ = true;
   bool release_possible_ = true;
   Lex t_;
   double friction_row_sign_ = 1.0;

@@ -13,6 +13,7 @@
 #include "unjam/indeterminacy/shift_bounds.hpp"
 #include "unjam/io/packing_file.hpp"
 #include "unjam/protocols/perturbation.hpp"
+#include "unjam/solvers/rate_path.hpp"
 
 namespace unjam {
 namespace {
@@ -84,6 +85,15 @@ TEST(RatePerturbation, DefaultPackingOpeningsAreDecidedAndAgreeWithLemke) {
   EXPECT_GT(by_rate, 0);
 }
 
+// The self-stresses and static forces of the rate solve, as the perturbation step poses them.
+RateBase RateBaseFor(const PerturbationBase& base, const PerturbationOptions& o) {
+  StaticSolveOptions step;
+  step.dt = o.dt;
+  step.closed_gap_tolerance = o.closed_gap_tolerance;
+  step.margin = std::max(1e-6, 1000.0 * o.gap);  // the perturbation step's detection margin
+  return PrepareRateBase(base, step);
+}
+
 // The static LP's cutting planes (a relaxation over the rows nearest to binding, grown by
 // the rows its point violates) decide every opening of the default packing as the LP over
 // every row does: the fast path against the whole LP, on all 643 openings.
@@ -91,11 +101,7 @@ TEST(RatePerturbation, StaticLpCuttingPlanesAgreeWithTheWholeLp) {
   const Scene scene = Bundled("pressure-n500-mu0.5");
   PerturbationOptions o;
   const PerturbationBase base = PreparePerturbations(scene, o);
-  StaticSolveOptions step;
-  step.dt = o.dt;
-  step.closed_gap_tolerance = o.closed_gap_tolerance;
-  step.margin = std::max(1e-6, 1000.0 * o.gap);  // the perturbation step's detection margin
-  const RateBase rb = PrepareRateBase(base, step);
+  const RateBase rb = RateBaseFor(base, o);
   int infeasible = 0, openings = 0;
   for (const PerturbationTarget& t : ContactTargets(base)) {
     const RateTarget rt = PoseRateTarget(rb, t, o);
@@ -110,6 +116,31 @@ TEST(RatePerturbation, StaticLpCuttingPlanesAgreeWithTheWholeLp) {
   }
   EXPECT_EQ(openings, 643);
   EXPECT_EQ(infeasible, 367);  // the openings Lemke's full solve of the step calls dynamic
+}
+
+// The path's ratio test reads only the contacts whose margin can reach a bound within the
+// step (solvers/reach_heap.hpp); reading every contact at every event gives the same path,
+// event for event: brute force against the fast path, on low-friction openings whose paths
+// take hundreds of events.
+TEST(RatePerturbation, PathsReadingOnlyContactsNearABoundAreThePathsReadingEveryContact) {
+  const Scene scene = Bundled("pressure-n500-mu0.1");
+  PerturbationOptions o;
+  const PerturbationBase base = PreparePerturbations(scene, o);
+  const RateBase rb = RateBaseFor(base, o);
+  int long_paths = 0;
+  for (const PerturbationTarget& t : SampleTargets(ContactTargets(base), 6, 1)) {
+    const RateTarget rt = PoseRateTarget(rb, t, o);
+    ASSERT_TRUE(rt.refused.empty()) << rt.refused;
+    const RatePathResult fast = FollowRatePath(rt.problem);
+    const RatePathResult every = FollowRatePath(rt.problem, {.read_every_contact = true});
+    EXPECT_EQ(fast.end, every.end) << t.i << "-" << t.j;
+    EXPECT_EQ(fast.events, every.events) << t.i << "-" << t.j;
+    EXPECT_EQ(fast.states, every.states) << t.i << "-" << t.j;
+    EXPECT_EQ(fast.t, every.t) << t.i << "-" << t.j;
+    EXPECT_EQ((fast.alpha - every.alpha).lpNorm<Eigen::Infinity>(), 0.0) << t.i << "-" << t.j;
+    long_paths += fast.events >= 300 ? 1 : 0;
+  }
+  EXPECT_GE(long_paths, 3);
 }
 
 // Every top and bottom shift of the small pile ends with a definite status; the top shifts

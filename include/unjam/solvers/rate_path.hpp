@@ -89,15 +89,19 @@ struct RatePathResult {
   std::string message;
 };
 
-// A path ends `stalled` when its work or its events reach these limits. An event costs
-// about rows(S) × D + m² multiply-adds (the forces' change S dα, the QR update; m the
-// unknowns of the piece): the work limit is about 6 000 events of the 1600-disk pile at
-// μ = 0.1 (S 5 840 × 1 057, m ≈ 800; a minute or so; its bottom shift 387 collapses after
+// A path ends `stalled` when its work or its events reach these limits. An event counts
+// rows(S) × D + m² multiply-adds (the forces' change S dα over every contact, the QR
+// update; m the unknowns of the piece), a nominal count: the ratio test reads only the
+// contacts near a bound (reach_heap.hpp). The work limit is about 6 000 events of the 1600-disk
+// pile at μ = 0.1 (S 5 840 × 1 057, m ≈ 800; a minute or so; its bottom shift 387 collapses after
 // 5 042), where a cheaper path may take more events, e.g. 35 000 on the μ = 1 pile (S about
 // 5 000 × 200). Both limits are fixed counts, so a path ends the same way on every machine.
 struct RatePathOptions {
   double max_work = 4e10;
   int max_events = 200000;
+  // The ratio test reads every contact at every event instead of those near a bound (a
+  // cross-check of reach_heap.hpp's pruning: the same path, event for event).
+  bool read_every_contact = false;
 };
 
 RatePathResult FollowRatePath(const RateProblem& problem, const RatePathOptions& options = {});
