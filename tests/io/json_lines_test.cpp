@@ -37,8 +37,9 @@ TEST_F(JsonLinesTest, ATornLastLineIsIgnoredAndNotCounted) {
 }
 
 TEST_F(JsonLinesTest, ABadLineIsNamedByFileAndLine) {
-  for (const std::string& bad : {"not json", "[1, 2]"}) {
-    const auto path = Write("r.jsonl", "{\"run\":1}\n{\"a\":1}\n" + bad + "\n{\"a\":2}\n");
+  for (const char* bad : {"not json", "[1, 2]"}) {
+    const auto path =
+        Write("r.jsonl", std::string("{\"run\":1}\n{\"a\":1}\n") + bad + "\n{\"a\":2}\n");
     try {
       ReadJsonLines(path);
       FAIL() << "accepted " << bad;

@@ -129,7 +129,9 @@ TEST(SiconosCollection, ConvexBackendsRefuseAnAsymmetricOrIndefiniteW) {
     EXPECT_EQ(r.report.status, c.status) << r.report.message;
     ASSERT_TRUE(AllFinite(r.impulses));
     const double residual = ComputeResidual(p, r.impulses).residual;
-    if (c.status == SolveStatus::kConverged) EXPECT_LE(residual, o.tolerance);
+    if (c.status == SolveStatus::kConverged) {
+      EXPECT_LE(residual, o.tolerance);
+    }
     if (c.status == SolveStatus::kUnsupported) {
       const bool indefinite = std::string(c.file).rfind("FrictionContactProblem", 0) == 0;
       EXPECT_NE(r.report.message.find(indefinite ? "not positive semidefinite" : "not symmetric"),

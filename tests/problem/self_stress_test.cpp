@@ -18,8 +18,9 @@ void ExpectOrthonormalSelfStresses(const Eigen::MatrixXd& s, const Eigen::Sparse
   EXPECT_LT(
       (s.transpose() * s - Eigen::MatrixXd::Identity(s.cols(), s.cols())).lpNorm<Eigen::Infinity>(),
       1e-12);
-  if (s.cols() > 0)
+  if (s.cols() > 0) {
     EXPECT_LT((Eigen::MatrixXd(h.transpose()) * s).lpNorm<Eigen::Infinity>(), 1e-12);
+  }
 }
 
 // One body on three supports along one line (three contact rows, one degree of freedom):
