@@ -1,6 +1,7 @@
 #include "unjam/solvers/rate_path.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -374,36 +375,69 @@ class PathFollower {
     return std::sqrt(std::max(0.0, a * a * g.nn + 2.0 * a * b * g.nt + b * b * g.tt));
   }
 
-  // The least margin of a contact to the bounds it can reach in its state, at α (order
-  // zero), lowered by round-off, and the largest rate at which it can fall per unit length
-  // of α's motion.
-  struct Margin {
-    double value = 0.0, rate = 0.0;
+  // A bound of a contact's law that it can reach in its state: the margin a·r_n + b·r_t
+  // falls to −ε·weight, and the event that happens there. Both the ratio test and the reach
+  // of the contact in the heap read these, so they watch the same bounds.
+  struct Bound {
+    double a = 0.0, b = 0.0, weight = 0.0;
+    EventKind kind = EventKind::kNone;
+    double sign = 0.0;  // kStartsSliding: the slip direction
   };
-  Margin MarginOf(std::size_t ci) const {
-    const RateContact& c = p_.contacts[ci];
-    const double rn = c.r0_n + RowN(c).dot(alpha0_);
-    const double rt = Frictional(c) ? c.r0_t + RowT(c).dot(alpha0_) : 0.0;
-    const double slack = kTie * (1.0 + std::abs(rn) + std::abs(rt));
-    if (!Frictional(c) || (state_[ci] != ContactState::kStick && !associated_))
-      return {rn - slack, GradientNorm(ci, 1.0, 0.0)};
-    if (state_[ci] != ContactState::kStick) {
-      const double other = -SlipSign(static_cast<int>(ci));
-      return {c.mu * rn + other * rt - slack, GradientNorm(ci, c.mu, other)};
-    }
-    return {std::min(c.mu * rn - rt, c.mu * rn + rt) - slack,
-            std::max(GradientNorm(ci, c.mu, -1.0), GradientNorm(ci, c.mu, 1.0))};
-  }
-  // Puts a contact in the ratio test's heap with its current reach (absent if open or held).
-  void Track(std::size_t ci) {
+  int BoundsOf(std::size_t ci, std::array<Bound, 2>& bounds) const {
     const RateContact& c = p_.contacts[ci];
     const int k = static_cast<int>(ci);
+    if (!Frictional(c) || (state_[ci] != ContactState::kStick && !associated_)) {
+      // A frictionless contact, or one sliding under Coulomb's law (it reaches the apex),
+      // opens at r_n = −ε w.
+      bounds[0] = {1.0, 0.0, NormalWeight(k), EventKind::kOpens, 0.0};
+      return 1;
+    }
+    if (state_[ci] != ContactState::kStick) {
+      // Sliding under the associated law: the force meets the other edge, μ r_n − σ r_t.
+      const double other = -SlipSign(k);
+      bounds[0] = {c.mu, other, EdgeWeight(k, other), EventKind::kOpens, 0.0};
+      return 1;
+    }
+    // y⁺ = μ r_n − r_t reaches −ε w: the friction force points along +t, the slip along −t.
+    bounds[0] = {c.mu, -1.0, EdgeWeight(k, -1.0), EventKind::kStartsSliding, -1.0};
+    bounds[1] = {c.mu, 1.0, EdgeWeight(k, 1.0), EventKind::kStartsSliding, 1.0};
+    return 2;
+  }
+
+  // A contact's force S α (normal, tangential; the tangential 0 without friction).
+  struct Pair {
+    double n = 0.0, t = 0.0;
+  };
+  Pair Moved(const RateContact& c, const Eigen::VectorXd& alpha) const {
+    return {RowN(c).dot(alpha), Frictional(c) ? RowT(c).dot(alpha) : 0.0};
+  }
+  Pair ForcesAt(const RateContact& c, const Eigen::VectorXd& alpha) const {
+    const Pair moved = Moved(c, alpha);
+    return {c.r0_n + moved.n, Frictional(c) ? c.r0_t + moved.t : 0.0};
+  }
+
+  // Puts a contact in the ratio test's heap with its reach at the forces r (order zero at
+  // the path's point): its least margin to a bound, lowered by round-off, over the largest
+  // rate at which that margin can fall per unit length of α's motion. Absent if open or held.
+  void Track(std::size_t ci, const Pair& r) {
+    const int k = static_cast<int>(ci);
+    std::array<Bound, 2> bounds;
+    const int n = BoundsOf(ci, bounds);
+    double margin = kInf, rate = 0.0;
+    for (int i = 0; i < n; ++i) {
+      margin = std::min(margin, bounds[i].a * r.n + bounds[i].b * r.t);
+      rate = std::max(rate, GradientNorm(ci, bounds[i].a, bounds[i].b));
+    }
+    margin -= kTie * (1.0 + std::abs(r.n) + std::abs(r.t));
+    reach_.Set(k, rate > 0.0 ? arc_ + std::max(margin, 0.0) / rate : kInf);
+  }
+  void Track(std::size_t ci) {
+    const RateContact& c = p_.contacts[ci];
     if (c.held || state_[ci] == ContactState::kOpen) {
-      reach_.Remove(k);
+      reach_.Remove(static_cast<int>(ci));
       return;
     }
-    const Margin m = MarginOf(ci);
-    reach_.Set(k, m.rate > 0.0 ? arc_ + std::max(m.value, 0.0) / m.rate : kInf);
+    Track(ci, ForcesAt(c, alpha0_));
   }
   void TrackEveryContact() {
     arc_ = 0.0;
@@ -606,42 +640,20 @@ class PathFollower {
     return {std::max(0.0, v0) / -rate, v1 / -rate};
   }
 
-  // The events of contact k along the piece (its forces r = r₀ + S α, both orders, and
-  // their rates S dα).
-  void ConsiderContact(int k, const Eigen::VectorXd& dalpha, Event& best) const {
+  // The events of contact k along the piece: r its forces at the path's point (order
+  // zero), their ε parts S α₁ and their rates S dα.
+  void ConsiderContact(int k, const Pair& r, const Eigen::VectorXd& dalpha, Event& best) const {
     const auto ci = static_cast<std::size_t>(k);
     const RateContact& c = p_.contacts[ci];
-    const double rn = c.r0_n + RowN(c).dot(alpha0_), rn1 = RowN(c).dot(alpha1_);
-    const double drn = RowN(c).dot(dalpha);
-    if (!Frictional(c)) {  // a frictionless contact opens at r_n = −ε w
-      if (drn < -kRateTolerance)
-        Consider({EventKind::kOpens, k, 0.0, StepTo(rn, rn1 + NormalWeight(k), drn)}, best);
-      return;
-    }
-    const double rt = c.r0_t + RowT(c).dot(alpha0_), rt1 = RowT(c).dot(alpha1_);
-    const double drt = RowT(c).dot(dalpha);
-    if (state_[ci] != ContactState::kStick) {
-      // A sliding contact reaches the apex: Coulomb's law opens it at r_n = −ε w; the
-      // associated one meets the other edge, μ r_n − σ r_t = −ε w.
-      const double other = -SlipSign(k);
-      const double y = associated_ ? c.mu * rn + other * rt : rn;
-      const double y1 =
-          associated_ ? c.mu * rn1 + other * rt1 + EdgeWeight(k, other) : rn1 + NormalWeight(k);
-      const double dy = associated_ ? c.mu * drn + other * drt : drn;
-      if (dy < -kRateTolerance) Consider({EventKind::kOpens, k, 0.0, StepTo(y, y1, dy)}, best);
-      return;
-    }
-    // y⁺ = μ r_n − r_t reaches −ε w: the friction force points along +t, the slip along −t.
-    const double dyp = c.mu * drn - drt, dym = c.mu * drn + drt;
-    if (dyp < -kRateTolerance) {
-      Consider({EventKind::kStartsSliding, k, -1.0,
-                StepTo(c.mu * rn - rt, c.mu * rn1 - rt1 + EdgeWeight(k, -1.0), dyp)},
-               best);
-    }
-    if (dym < -kRateTolerance) {
-      Consider({EventKind::kStartsSliding, k, +1.0,
-                StepTo(c.mu * rn + rt, c.mu * rn1 + rt1 + EdgeWeight(k, 1.0), dym)},
-               best);
+    const Pair r1 = Moved(c, alpha1_), dr = Moved(c, dalpha);
+    std::array<Bound, 2> bounds;
+    const int n = BoundsOf(ci, bounds);
+    for (int i = 0; i < n; ++i) {
+      const Bound& b = bounds[i];
+      const double rate = b.a * dr.n + b.b * dr.t;
+      if (rate >= -kRateTolerance) continue;
+      const double y = b.a * r.n + b.b * r.t, y1 = b.a * r1.n + b.b * r1.t + b.weight;
+      Consider({b.kind, k, b.sign, StepTo(y, y1, rate)}, best);
     }
   }
 
@@ -673,10 +685,16 @@ class PathFollower {
                    ? kInf
                    : arc_ + speed * (step + 2.0 * kTie * (1.0 + std::abs(step)));
       };
+      // The forces read for the test also give each taken contact its new reach.
       taken_.clear();
-      reach_.TakeWithin(
-          limit, [&](int k) { ConsiderContact(k, dalpha, best); }, taken_);
-      for (int k : taken_) Track(static_cast<std::size_t>(k));
+      taken_forces_.clear();
+      const auto visit = [&](int k) {
+        taken_forces_.push_back(ForcesAt(ContactOf(k), alpha0_));
+        ConsiderContact(k, taken_forces_.back(), dalpha, best);
+      };
+      reach_.TakeWithin(limit, visit, taken_);
+      for (std::size_t i = 0; i < taken_.size(); ++i)
+        Track(static_cast<std::size_t>(taken_[i]), taken_forces_[i]);
     }
     const double dt = dir[m];
     if (dt > kRateTolerance && t_max < kInf) {
@@ -843,6 +861,7 @@ class PathFollower {
   // The ratio test's contacts by reach (reach_heap.hpp), the length of α's path so far.
   ReachHeap reach_;
   std::vector<int> taken_;
+  std::vector<Pair> taken_forces_;
   double arc_ = 0.0;
   bool reach_stale_ = true;
   bool release_possible_ = true;

@@ -9,7 +9,6 @@
 #include <functional>
 #include <limits>
 #include <queue>
-#include <utility>
 #include <vector>
 
 namespace unjam {
